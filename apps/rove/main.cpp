@@ -1,0 +1,25 @@
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <exception>
+
+#include "rove/core/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"rove: localize, map and navigate mobile robots from real sensor data"};
+  app.require_subcommand(1);
+  auto* version = app.add_subcommand("version", "Print rove's version");
+  version->callback([] { fmt::print("rove {}\n", ROVE_VERSION); });
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const rove::Error& e) {
+    fmt::print(stderr, "rove: error: {}\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "rove: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,70 @@
+# Helpers that give every rove module the same shape:
+#   modules/<name>/{include/rove/<name>/, src/, tests/, bench/}
+#
+# rove_add_module(<name> [DEPS rove::a rove::b ...] [PUBLIC_LIBS ...] [PRIVATE_LIBS ...])
+#   Builds rove_<name> (alias rove::<name>) from src/*.cpp, installs it and its
+#   headers, and, when tests are enabled, builds tests/*.cpp into one GoogleTest
+#   executable registered with CTest. A DEPS entry must name a module that comes
+#   earlier in ROVE_MODULE_ORDER: dependencies only point down the stack.
+
+set(ROVE_MODULE_ORDER core serialization math poses obs maps registration bayes graph
+    vision slam nav viz)
+
+function(rove_target_defaults target)
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
+  if(ROVE_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+  if(ROVE_SANITIZE)
+    target_compile_options(${target} PRIVATE -fsanitize=${ROVE_SANITIZE}
+      -fno-omit-frame-pointer -fno-sanitize-recover=all)
+    target_link_options(${target} PRIVATE -fsanitize=${ROVE_SANITIZE})
+  endif()
+endfunction()
+
+function(rove_add_module name)
+  cmake_parse_arguments(ARG "" "" "DEPS;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  list(FIND ROVE_MODULE_ORDER ${name} self_index)
+  if(self_index EQUAL -1)
+    message(FATAL_ERROR "rove module '${name}' is not listed in ROVE_MODULE_ORDER")
+  endif()
+  foreach(dep IN LISTS ARG_DEPS)
+    string(REPLACE "rove::" "" dep_name ${dep})
+    list(FIND ROVE_MODULE_ORDER ${dep_name} dep_index)
+    if(dep_index EQUAL -1 OR NOT dep_index LESS self_index)
+      message(FATAL_ERROR "rove::${name} may not depend on ${dep}: dependencies must point "
+                          "to modules earlier in: ${ROVE_MODULE_ORDER}")
+    endif()
+  endforeach()
+
+  set(dir ${CMAKE_CURRENT_SOURCE_DIR})
+  file(GLOB_RECURSE srcs CONFIGURE_DEPENDS ${dir}/src/*.cpp)
+  add_library(rove_${name} ${srcs})
+  add_library(rove::${name} ALIAS rove_${name})
+  set_target_properties(rove_${name} PROPERTIES EXPORT_NAME ${name} POSITION_INDEPENDENT_CODE ON)
+  target_include_directories(rove_${name} PUBLIC
+    $<BUILD_INTERFACE:${dir}/include> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_link_libraries(rove_${name} PUBLIC ${ARG_DEPS} ${ARG_PUBLIC_LIBS} PRIVATE ${ARG_PRIVATE_LIBS})
+  rove_target_defaults(rove_${name})
+
+  install(TARGETS rove_${name} EXPORT roveTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  install(DIRECTORY ${dir}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+
+  if(ROVE_BUILD_TESTS)
+    file(GLOB_RECURSE test_srcs CONFIGURE_DEPENDS ${dir}/tests/*.cpp)
+    if(test_srcs)
+      add_executable(rove_${name}_tests ${test_srcs})
+      target_link_libraries(rove_${name}_tests PRIVATE rove::${name} GTest::gtest GTest::gtest_main)
+      target_include_directories(rove_${name}_tests PRIVATE ${dir}/tests)
+      target_compile_definitions(rove_${name}_tests PRIVATE
+        ROVE_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+      rove_target_defaults(rove_${name}_tests)
+      gtest_discover_tests(rove_${name}_tests DISCOVERY_MODE PRE_TEST
+        WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTIES LABELS ${name})
+    endif()
+  endif()
+endfunction()
