@@ -1,0 +1,14 @@
+#pragma once
+/// \file
+/// The rove subcommands. Each registers itself on the CLI11 application.
+
+#include <CLI/CLI.hpp>
+
+namespace rove::cli {
+
+/// `rove demo`: the job the README's quick start runs on bundled data.
+void add_demo_command(CLI::App& app);
+/// `rove config check FILE...`: load MRPT-style INI files and report.
+void add_config_command(CLI::App& app);
+
+}  // namespace rove::cli
