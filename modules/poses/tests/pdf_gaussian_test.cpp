@@ -148,7 +148,7 @@ TEST(PdfGaussian3, ComposeWhereQuaternionProductHasNegativeW) {
   // cross-covariance; the Monte-Carlo oracle pins the consistent result.
   std::mt19937_64 rng(77);
   const Pose3 ma(1.0, 2.0, -0.5, 0.3, 0.2, -0.1), mb(-0.5, 3.0, 1.0, 2.9, -1.1, 2.8);
-  const Pose3Gaussian a(ma, cov3(rng, 0.05, 0.03)), b(mb, cov3(rng, 0.08, 0.04));
+  const Pose3Gaussian a(ma, cov3(rng, 0.03, 0.015)), b(mb, cov3(rng, 0.04, 0.02));
   const Pose3Gaussian r = a + b;
   const std::vector<Pose3> sa = a.sample(rng, kSamples), sb = b.sample(rng, kSamples);
   std::vector<Eigen::VectorXd> d;
