@@ -1,0 +1,113 @@
+#include "rove/obs/range_image_3d.h"
+
+#include <cmath>
+
+#include "archive_helpers.h"
+#include "rove/core/check.h"
+#include "rove/poses/angle.h"
+#include "rove/serialization/stl.h"
+#include "rove/serialization/version.h"
+
+namespace rove {
+
+Pose3 sensor_from_optical() { return Pose3(0.0, 0.0, 0.0, -kPi / 2.0, 0.0, -kPi / 2.0); }
+
+void RangeImage3D::check() const {
+  depth.check();
+  depth_camera.check();
+  ROVE_CHECK_MSG(depth.width == depth_camera.width && depth.height == depth_camera.height,
+                 "RangeImage3D: depth image is {}x{} but depth_camera is {}x{}", depth.width,
+                 depth.height, depth_camera.width, depth_camera.height);
+  ROVE_CHECK_MSG(!std::isnan(max_range) && max_range > 0.0,
+                 "RangeImage3D: max_range {} m must be > 0", max_range);
+  if (intensity) intensity->check();
+}
+
+RangeImageProjection RangeImage3D::project(const RangeImageProjectionOptions& options) const {
+  check();
+  // Output = R · p_optical + t for the requested frame.
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  if (options.frame != RangeImageFrame::kOptical) {
+    Pose3 T = sensor_from_optical();
+    if (options.frame == RangeImageFrame::kRobot) {
+      T = T_robot_sensor + T;
+      if (options.T_target_robot) T = *options.T_target_robot + T;
+    }
+    R = T.rotation();
+    t = T.translation();
+  }
+  const bool transform = options.frame != RangeImageFrame::kOptical;
+  const bool distorted = depth_camera.has_distortion();
+
+  RangeImageProjection out;
+  const std::size_t n = depth.pixel_count();
+  out.points.reserve(n);
+  out.pixel_u.reserve(n);
+  out.pixel_v.reserve(n);
+  std::visit(
+      [&](const auto& values) {
+        std::size_t i = 0;
+        for (std::uint32_t v = 0; v < depth.height; ++v) {
+          for (std::uint32_t u = 0; u < depth.width; ++u, ++i) {
+            const double s = static_cast<double>(values[i]) / depth.scale;
+            if (!(std::isfinite(s) && s > 0.0 && s <= max_range)) continue;
+            // Ray through pixel (u, v): (a, b, 1); Hartley & Zisserman eq. 6.4 inverted.
+            Eigen::Vector3d ray;
+            if (distorted) {
+              ray = depth_camera.unproject(u, v);
+            } else {
+              ray << (u - depth_camera.cx) / depth_camera.fx,
+                  (v - depth_camera.cy) / depth_camera.fy, 1.0;
+            }
+            const Eigen::Vector3d p = range_is_depth ? Eigen::Vector3d(ray * s)
+                                                     : Eigen::Vector3d(ray * (s / ray.norm()));
+            out.points.push_back(transform ? Eigen::Vector3d(R * p + t) : p);
+            out.pixel_u.push_back(u);
+            out.pixel_v.push_back(v);
+          }
+        }
+      },
+      depth.values);
+  return out;
+}
+
+bool operator==(const RangeImage3D& a, const RangeImage3D& b) {
+  return a.header_equals(b) && a.depth == b.depth && a.range_is_depth == b.range_is_depth &&
+         a.max_range == b.max_range && a.depth_camera == b.depth_camera &&
+         a.intensity == b.intensity && a.intensity_camera == b.intensity_camera &&
+         a.T_sensor_intensity == b.T_sensor_intensity;
+}
+
+void RangeImage3D::save_payload(OutArchive& ar) const {
+  save_header(ar);
+  save(ar, depth);
+  ar.write_scalar(range_is_depth);
+  ar.write_scalar(max_range);
+  save(ar, depth_camera);
+  save(ar, intensity);
+  save(ar, intensity_camera);
+  detail::save_pose3(ar, T_sensor_intensity);
+}
+
+void RangeImage3D::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
+  load_header(ar);
+  load(ar, depth);
+  range_is_depth = ar.read_scalar<bool>("range_is_depth");
+  max_range = ar.read_scalar<double>("max_range");
+  load(ar, depth_camera);
+  load(ar, intensity);
+  load(ar, intensity_camera);
+  T_sensor_intensity = detail::load_pose3(ar, "T_sensor_intensity");
+}
+
+std::unique_ptr<Observation> RangeImage3D::clone() const {
+  return std::make_unique<RangeImage3D>(*this);
+}
+
+bool RangeImage3D::equals(const Observation& other) const {
+  const auto* o = dynamic_cast<const RangeImage3D*>(&other);
+  return o != nullptr && *this == *o;
+}
+
+}  // namespace rove
