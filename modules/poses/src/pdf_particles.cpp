@@ -6,6 +6,7 @@
 
 #include "rove/core/check.h"
 #include "pdf_weights_detail.h"
+#include "rove/math/statistics.h"
 
 namespace rove {
 
@@ -30,7 +31,7 @@ std::vector<double> PoseParticles<Pose>::normalized_weights() const {
   std::vector<double> lw;
   lw.reserve(particles_.size());
   for (const Particle& p : particles_) lw.push_back(p.log_weight);
-  return detail::normalized_weights(lw);
+  return weights_from_log_weights(lw);
 }
 
 template <PdfPose Pose>
@@ -38,8 +39,8 @@ void PoseParticles<Pose>::normalize_weights() {
   std::vector<double> lw;
   lw.reserve(particles_.size());
   for (const Particle& p : particles_) lw.push_back(p.log_weight);
-  const double lse = detail::log_sum_exp(lw);
-  for (Particle& p : particles_) p.log_weight -= lse;
+  normalize_log_weights(lw);
+  for (std::size_t i = 0; i < particles_.size(); ++i) particles_[i].log_weight = lw[i];
 }
 
 template <PdfPose Pose>

@@ -4,6 +4,7 @@
 
 #include "rove/core/check.h"
 #include "pdf_weights_detail.h"
+#include "rove/math/statistics.h"
 
 namespace rove {
 
@@ -23,7 +24,7 @@ std::vector<double> PoseSOG<Pose>::normalized_weights() const {
   std::vector<double> lw;
   lw.reserve(modes_.size());
   for (const Mode& m : modes_) lw.push_back(m.log_weight);
-  return detail::normalized_weights(lw);
+  return weights_from_log_weights(lw);
 }
 
 template <PdfPose Pose>
@@ -31,8 +32,8 @@ void PoseSOG<Pose>::normalize_weights() {
   std::vector<double> lw;
   lw.reserve(modes_.size());
   for (const Mode& m : modes_) lw.push_back(m.log_weight);
-  const double lse = detail::log_sum_exp(lw);
-  for (Mode& m : modes_) m.log_weight -= lse;
+  normalize_log_weights(lw);
+  for (std::size_t i = 0; i < modes_.size(); ++i) modes_[i].log_weight = lw[i];
 }
 
 template <PdfPose Pose>

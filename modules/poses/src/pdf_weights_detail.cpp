@@ -13,24 +13,6 @@ void check_log_weight(double log_weight) {
                  "log-weight must not be NaN or +inf, got {}", log_weight);
 }
 
-double log_sum_exp(std::span<const double> log_weights) {
-  ROVE_CHECK_MSG(!log_weights.empty(), "no weights to normalize");
-  const double max_lw = *std::max_element(log_weights.begin(), log_weights.end());
-  ROVE_CHECK_MSG(max_lw != -std::numeric_limits<double>::infinity(),
-                 "all weights are zero (log-weight -inf)");
-  double sum = 0.0;
-  for (double lw : log_weights) sum += std::exp(lw - max_lw);
-  return max_lw + std::log(sum);
-}
-
-std::vector<double> normalized_weights(std::span<const double> log_weights) {
-  const double lse = log_sum_exp(log_weights);
-  std::vector<double> w;
-  w.reserve(log_weights.size());
-  for (double lw : log_weights) w.push_back(std::exp(lw - lse));
-  return w;
-}
-
 std::size_t draw_index(std::span<const double> weights, std::mt19937_64& rng) {
   ROVE_CHECK_MSG(!weights.empty(), "cannot draw from an empty set");
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
