@@ -11,7 +11,6 @@ namespace {
 
 constexpr std::int64_t kNsPerSecond = 1000000000;
 constexpr std::int64_t kNsPerTick = 100;
-constexpr std::uint64_t kMrptEpochOffsetTicks = Timestamp::kMrptEpochOffsetTicks;
 constexpr std::uint64_t kMaxTicksMagnitude =
     static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max() / kNsPerTick);
 
