@@ -10,5 +10,7 @@ namespace rove::cli {
 void add_demo_command(CLI::App& app);
 /// `rove config check FILE...`: load MRPT-style INI files and report.
 void add_config_command(CLI::App& app);
+/// `rove rawlog info FILE [--json]`: stream a rawlog and summarize it.
+void add_rawlog_command(CLI::App& app);
 
 }  // namespace rove::cli

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   version->callback([] { fmt::print("rove {}\n", ROVE_VERSION); });
   rove::cli::add_demo_command(app);
   rove::cli::add_config_command(app);
+  rove::cli::add_rawlog_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
