@@ -458,21 +458,27 @@ MrptObject read_sensory_frame(InArchive& ar, const MrptObjectHeader& h) {
 
 MrptClassReaders<MrptObject> make_readers() {
   MrptClassReaders<MrptObject> r;
-  r.add("CPose2D", read_pose2);
-  r.add("CPose3D", read_pose3);
-  r.add("CMatrixD", read_matrix_d);
-  r.add("CMatrixF", read_matrix_f);
+  // MRPT 2.x writes class names with their namespace ("mrpt::obs::CSensoryFrame");
+  // older files use the bare name. Both spellings are registered.
+  const auto add = [&r](std::string_view ns, const std::string& name, auto reader) {
+    r.add(name, reader);
+    r.add(std::string(ns) + name, reader);
+  };
+  add("mrpt::poses::", "CPose2D", read_pose2);
+  add("mrpt::poses::", "CPose3D", read_pose3);
+  add("mrpt::math::", "CMatrixD", read_matrix_d);
+  add("mrpt::math::", "CMatrixF", read_matrix_f);
   r.add("CMatrix", read_matrix_f);  // CMatrixF's name in MRPT < 0.9 (a float matrix)
-  r.add("CPosePDFGaussian", read_pose2_gaussian);
-  r.add("CPose3DPDFGaussian", read_pose3_gaussian);
-  r.add("CObservation2DRangeScan", read_range_scan_2d);
-  r.add("CObservationOdometry", read_odometry);
-  r.add("CObservationBearingRange", read_bearing_range);
-  r.add("CObservationBeaconRanges", read_beacon_ranges);
-  r.add("CPoint3D", read_point3);
-  r.add("CActionRobotMovement2D", read_robot_movement_2d);
-  r.add("CActionCollection", read_action_collection);
-  r.add("CSensoryFrame", read_sensory_frame);
+  add("mrpt::poses::", "CPosePDFGaussian", read_pose2_gaussian);
+  add("mrpt::poses::", "CPose3DPDFGaussian", read_pose3_gaussian);
+  add("mrpt::obs::", "CObservation2DRangeScan", read_range_scan_2d);
+  add("mrpt::obs::", "CObservationOdometry", read_odometry);
+  add("mrpt::obs::", "CObservationBearingRange", read_bearing_range);
+  add("mrpt::obs::", "CObservationBeaconRanges", read_beacon_ranges);
+  add("mrpt::poses::", "CPoint3D", read_point3);
+  add("mrpt::obs::", "CActionRobotMovement2D", read_robot_movement_2d);
+  add("mrpt::obs::", "CActionCollection", read_action_collection);
+  add("mrpt::obs::", "CSensoryFrame", read_sensory_frame);
   r.add("CSensorialFrame", read_sensory_frame);  // its name in MRPT < 0.6
   return r;
 }
