@@ -1,0 +1,147 @@
+#pragma once
+/// \file
+/// KdTree: exact nearest, k-nearest and radius search over 2D or 3D points
+/// (nanoflann underneath).
+///
+///   rove::KdTree3f tree(cloud);                 // any PointCloudLike
+///   if (auto nn = tree.nearest(q))              // q: Eigen::Vector3f
+///     use(nn->index, nn->sq_distance);          // index into `cloud`
+///   auto knn = tree.knn(q, 8);                  // sorted, nearest first
+///   tree.radius(q, 0.5f, neighbors);            // radius in meters
+///
+/// The tree copies the coordinates it indexes (the first Dim coordinates of
+/// each point, converted to Scalar) and stores them in tree order, so a leaf
+/// scan reads consecutive memory; the source cloud may change or go away
+/// afterwards without affecting the tree. Points with a NaN or infinite
+/// coordinate are not indexed (as PCL's KdTreeFLANN); indices in results
+/// always refer to the source cloud.
+///
+/// Ties (equal distances) are broken in an unspecified but deterministic
+/// order. Distances are squared Euclidean distances in Scalar precision,
+/// computed as sum over d of (q_d - p_d)^2.
+///
+/// Thread-safety: every const member may be called from any number of
+/// threads at once; construction and assignment need exclusive access.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "rove/maps/point_cloud_concept.h"
+
+namespace rove {
+
+/// Options of KdTree.
+struct KdTreeOptions {
+  /// Largest number of points in a leaf. Smaller leaves mean a deeper tree
+  /// (slower build, more memory); larger leaves mean more distance
+  /// evaluations per query. 10 was the fastest for build + kNN(k = 1..10) on
+  /// the room_scan clouds (docs/point-maps.md). Must be >= 1.
+  std::size_t leaf_size = 10;
+};
+
+/// One search result: the index of the point in the source cloud and its
+/// squared distance to the query, meters².
+template <typename Scalar>
+struct Neighbor {
+  std::uint32_t index = 0;
+  Scalar sq_distance = 0;
+  friend bool operator==(const Neighbor&, const Neighbor&) = default;
+};
+
+/// An exact KD-tree over Dim-dimensional points (Dim = 2 or 3) with Scalar
+/// coordinates (float or double). See the file comment.
+template <int Dim, typename Scalar>
+class KdTree {
+  static_assert(Dim == 2 || Dim == 3, "KdTree supports 2D and 3D points");
+  static_assert(std::is_same_v<Scalar, float> || std::is_same_v<Scalar, double>,
+                "KdTree supports float and double coordinates");
+
+ public:
+  using Point = Eigen::Matrix<Scalar, Dim, 1>;
+  using Result = Neighbor<Scalar>;
+
+  /// An empty tree: every search finds nothing.
+  KdTree();
+  /// Indexes the first Dim coordinates of every finite point of `cloud`.
+  /// Precondition (InvalidArgument): the cloud has fewer than 2^32 points,
+  /// options.leaf_size >= 1.
+  template <PointCloudLike C>
+    requires(cloud_dim_v<C> >= Dim)
+  explicit KdTree(const C& cloud, const KdTreeOptions& options = {})
+      : KdTree(copy_points(cloud), options) {}
+  /// Indexes `points` (the indices in results refer to this vector).
+  explicit KdTree(std::vector<Point> points, const KdTreeOptions& options = {});
+
+  KdTree(KdTree&&) noexcept;
+  KdTree& operator=(KdTree&&) noexcept;
+  KdTree(const KdTree&) = delete;
+  KdTree& operator=(const KdTree&) = delete;
+  ~KdTree();
+
+  /// Number of indexed (finite) points.
+  std::size_t size() const noexcept;
+  /// True when no point is indexed.
+  bool empty() const noexcept { return size() == 0; }
+  /// Number of points of the source cloud (indexed or not).
+  std::size_t source_size() const noexcept;
+  /// The options the tree was built with.
+  const KdTreeOptions& options() const noexcept;
+  /// The indexed point with source index `i`, in Scalar precision.
+  /// Precondition: i < source_size() and point i was finite.
+  Point indexed_point(std::uint32_t source_index) const;
+
+  /// The nearest indexed point to q; nullopt when the tree is empty or q is
+  /// not finite.
+  std::optional<Result> nearest(const Point& q) const;
+  /// The nearest indexed point within `max_distance` meters of q (inclusive);
+  /// nullopt if there is none. Precondition: max_distance >= 0.
+  std::optional<Result> nearest(const Point& q, Scalar max_distance) const;
+
+  /// The min(k, size()) nearest points to q, nearest first, written to the
+  /// front of `out`; returns how many were written (0 if q is not finite).
+  /// Precondition: out.size() >= k.
+  std::size_t knn(const Point& q, std::size_t k, std::span<Result> out) const;
+  /// As above, returned in a new vector.
+  std::vector<Result> knn(const Point& q, std::size_t k) const;
+
+  /// Every indexed point within `radius` meters of q (distance <= radius),
+  /// replacing the contents of `out`; nearest first when `sorted`. Returns
+  /// out.size(). Precondition: radius >= 0 and finite.
+  std::size_t radius(const Point& q, Scalar radius, std::vector<Result>& out,
+                     bool sorted = true) const;
+  /// As above, returned in a new vector (sorted).
+  std::vector<Result> radius(const Point& q, Scalar radius) const;
+
+ private:
+  template <PointCloudLike C>
+  static std::vector<Point> copy_points(const C& cloud) {
+    const std::size_t n = point_count(cloud);
+    std::vector<Point> out(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& p = point_at(cloud, i);
+      out[i] = p.template head<Dim>().template cast<Scalar>();
+    }
+    return out;
+  }
+
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+using KdTree2f = KdTree<2, float>;
+using KdTree3f = KdTree<3, float>;
+using KdTree2d = KdTree<2, double>;
+using KdTree3d = KdTree<3, double>;
+
+extern template class KdTree<2, float>;
+extern template class KdTree<3, float>;
+extern template class KdTree<2, double>;
+extern template class KdTree<3, double>;
+
+}  // namespace rove

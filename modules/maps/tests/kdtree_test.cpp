@@ -1,0 +1,211 @@
+#include "rove/maps/kdtree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "rove/core/error.h"
+#include "rove/maps/point_cloud.h"
+#include "rove/maps/point_cloud_concept.h"
+
+namespace rove {
+namespace {
+
+// A user cloud type adapted through ADL, as the concept promises.
+namespace user {
+struct Xyz {
+  double x, y, z;
+};
+struct MyCloud {
+  std::vector<Xyz> pts;
+};
+std::size_t point_count(const MyCloud& c) { return c.pts.size(); }
+Eigen::Vector3d point_at(const MyCloud& c, std::size_t i) {
+  return {c.pts[i].x, c.pts[i].y, c.pts[i].z};
+}
+}  // namespace user
+
+static_assert(PointCloudLike<PointCloud>);
+static_assert(PointCloudLike<std::vector<Eigen::Vector3f>>);
+static_assert(PointCloudLike<std::vector<Eigen::Vector2d>>);
+static_assert(PointCloudLike<user::MyCloud>);
+static_assert(!PointCloudLike<std::vector<float>>);
+static_assert(cloud_dim_v<std::vector<Eigen::Vector2f>> == 2);
+static_assert(std::is_same_v<cloud_scalar_t<user::MyCloud>, double>);
+
+template <int Dim, typename Scalar>
+std::vector<Neighbor<Scalar>> brute_all(const std::vector<Eigen::Matrix<Scalar, Dim, 1>>& pts,
+                                        const Eigen::Matrix<Scalar, Dim, 1>& q) {
+  std::vector<Neighbor<Scalar>> all;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (!pts[i].allFinite()) continue;
+    Scalar d = 0;
+    for (int k = 0; k < Dim; ++k) d += (q[k] - pts[i][k]) * (q[k] - pts[i][k]);
+    all.push_back({static_cast<std::uint32_t>(i), d});
+  }
+  std::sort(all.begin(), all.end(), [](auto& a, auto& b) {
+    return a.sq_distance < b.sq_distance || (a.sq_distance == b.sq_distance && a.index < b.index);
+  });
+  return all;
+}
+
+// The k-th distances must agree exactly; the indices must agree where the
+// distance is not tied.
+template <typename Scalar>
+void expect_same_knn(const std::vector<Neighbor<Scalar>>& got, const std::vector<Neighbor<Scalar>>& want,
+                     std::size_t k) {
+  const std::size_t n = std::min(k, want.size());
+  ASSERT_EQ(got.size(), n);
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(got[i].sq_distance, want[i].sq_distance) << "rank " << i;
+    const bool tied = (i > 0 && want[i - 1].sq_distance == want[i].sq_distance) ||
+                      (i + 1 < want.size() && want[i + 1].sq_distance == want[i].sq_distance);
+    if (!tied) {
+      EXPECT_EQ(got[i].index, want[i].index) << "rank " << i;
+    }
+  }
+}
+
+template <int Dim, typename Scalar>
+void random_check(std::size_t n, std::size_t leaf, unsigned seed, bool with_nans, bool quantized) {
+  using P = Eigen::Matrix<Scalar, Dim, 1>;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-10, 10);
+  std::vector<P> pts(n);
+  for (auto& p : pts)
+    for (int k = 0; k < Dim; ++k)
+      p[k] = static_cast<Scalar>(quantized ? std::round(u(rng)) : u(rng));  // quantized: many ties
+  if (with_nans)
+    for (std::size_t i = 0; i < n; i += 7) pts[i][i % Dim] = std::numeric_limits<Scalar>::quiet_NaN();
+  KdTree<Dim, Scalar> tree(pts, KdTreeOptions{leaf});
+  ASSERT_EQ(tree.source_size(), n);
+  for (int t = 0; t < 50; ++t) {
+    P q;
+    for (int k = 0; k < Dim; ++k) q[k] = static_cast<Scalar>(u(rng) * 1.2);
+    const auto all = brute_all<Dim, Scalar>(pts, q);
+    ASSERT_EQ(tree.size(), all.size());
+    // nearest
+    auto nn = tree.nearest(q);
+    ASSERT_TRUE(nn.has_value());
+    EXPECT_EQ(nn->sq_distance, all[0].sq_distance);
+    // k-nearest for several k
+    for (std::size_t k : {1u, 2u, 5u, 10u, 70u}) expect_same_knn(tree.knn(q, k), all, k);
+    // radius (inclusive): the set must be exactly the brute-force one
+    const Scalar r = static_cast<Scalar>(0.5 + (t % 5));
+    auto got = tree.radius(q, r);
+    std::vector<std::uint32_t> want;
+    for (auto& a : all)
+      if (a.sq_distance <= r * r) want.push_back(a.index);
+    std::vector<std::uint32_t> got_idx;
+    for (auto& g : got) got_idx.push_back(g.index);
+    for (std::size_t i = 1; i < got.size(); ++i) EXPECT_LE(got[i - 1].sq_distance, got[i].sq_distance);
+    std::sort(got_idx.begin(), got_idx.end());
+    std::sort(want.begin(), want.end());
+    EXPECT_EQ(got_idx, want);
+    // nearest within a distance
+    auto within = tree.nearest(q, r);
+    if (all[0].sq_distance <= r * r) {
+      ASSERT_TRUE(within.has_value());
+      EXPECT_EQ(within->sq_distance, all[0].sq_distance);
+    } else {
+      EXPECT_FALSE(within.has_value());
+    }
+  }
+}
+
+TEST(KdTree, MatchesBruteForce3f) { random_check<3, float>(3000, 10, 1, false, false); }
+TEST(KdTree, MatchesBruteForce2f) { random_check<2, float>(3000, 10, 2, false, false); }
+TEST(KdTree, MatchesBruteForce3d) { random_check<3, double>(2000, 4, 3, false, false); }
+TEST(KdTree, MatchesBruteForce2d) { random_check<2, double>(2000, 1, 4, false, false); }
+TEST(KdTree, SkipsNonFinitePoints) { random_check<3, float>(1500, 10, 5, true, false); }
+TEST(KdTree, ManyTiesOnAGrid) { random_check<3, float>(2000, 16, 6, false, true); }
+TEST(KdTree, ManyTiesOnAGrid2D) { random_check<2, float>(2000, 3, 7, false, true); }
+
+TEST(KdTree, TwoDimensionalTreeOverA3DCloudIgnoresZ) {
+  PointCloud c;
+  c.push_back({0, 0, 100});
+  c.push_back({1, 0, 0});
+  KdTree2f tree(c);
+  auto nn = tree.nearest(Eigen::Vector2f(0.1f, 0));
+  ASSERT_TRUE(nn);
+  EXPECT_EQ(nn->index, 0u);
+  KdTree3f tree3(c);
+  EXPECT_EQ(tree3.nearest(Eigen::Vector3f(0.1f, 0, 0))->index, 1u);
+}
+
+TEST(KdTree, RadiusIsInclusiveAndExactOnTheSphere) {
+  std::vector<Eigen::Vector3f> pts{{1, 0, 0}, {0, 2, 0}, {0, 0, 3}};
+  KdTree3f tree(pts);
+  EXPECT_EQ(tree.radius(Eigen::Vector3f::Zero(), 2.0f).size(), 2u);
+  EXPECT_EQ(tree.radius(Eigen::Vector3f::Zero(), std::nextafter(2.0f, 0.0f)).size(), 1u);
+  EXPECT_EQ(tree.radius(Eigen::Vector3f::Zero(), 0.0f).size(), 0u);
+  EXPECT_EQ(tree.nearest(Eigen::Vector3f::Zero(), 1.0f)->index, 0u);
+  EXPECT_FALSE(tree.nearest(Eigen::Vector3f::Zero(), 0.99f).has_value());
+  EXPECT_EQ(tree.radius(Eigen::Vector3f(1, 0, 0), 0.0f).size(), 1u);  // a point at the query
+}
+
+TEST(KdTree, EmptyTreeAndNonFiniteQueriesFindNothing) {
+  KdTree3f empty;
+  EXPECT_TRUE(empty.empty());
+  EXPECT_FALSE(empty.nearest(Eigen::Vector3f::Zero()));
+  EXPECT_TRUE(empty.knn(Eigen::Vector3f::Zero(), 3).empty());
+  EXPECT_TRUE(empty.radius(Eigen::Vector3f::Zero(), 1.0f).empty());
+  std::vector<Eigen::Vector3f> nans(5, Eigen::Vector3f::Constant(std::nanf("")));
+  KdTree3f all_nan(nans);
+  EXPECT_EQ(all_nan.size(), 0u);
+  EXPECT_EQ(all_nan.source_size(), 5u);
+  EXPECT_FALSE(all_nan.nearest(Eigen::Vector3f::Zero()));
+  KdTree3f one(std::vector<Eigen::Vector3f>{{1, 2, 3}});
+  EXPECT_FALSE(one.nearest(Eigen::Vector3f(std::nanf(""), 0, 0)));
+  EXPECT_TRUE(one.knn(Eigen::Vector3f(INFINITY, 0, 0), 1).empty());
+}
+
+TEST(KdTree, RejectsBadArguments) {
+  std::vector<Eigen::Vector3f> pts{{1, 0, 0}};
+  EXPECT_THROW(KdTree3f(pts, KdTreeOptions{0}), InvalidArgument);
+  KdTree3f tree(pts);
+  EXPECT_THROW(tree.radius(Eigen::Vector3f::Zero(), -1.0f), InvalidArgument);
+  EXPECT_THROW(tree.nearest(Eigen::Vector3f::Zero(), -1.0f), InvalidArgument);
+  std::vector<Neighbor<float>> small(1);
+  EXPECT_THROW(tree.knn(Eigen::Vector3f::Zero(), 2, small), InvalidArgument);
+  EXPECT_THROW(tree.indexed_point(1), InvalidArgument);
+  EXPECT_EQ(tree.indexed_point(0), Eigen::Vector3f(1, 0, 0));
+}
+
+TEST(KdTree, DuplicatePointsAndLargeK) {
+  std::vector<Eigen::Vector3f> pts(100, Eigen::Vector3f(1, 1, 1));
+  KdTree3f tree(pts, KdTreeOptions{4});
+  auto r = tree.knn(Eigen::Vector3f::Zero(), 200);  // more than stored: all of them
+  ASSERT_EQ(r.size(), 100u);
+  std::vector<bool> seen(100, false);
+  for (auto& n : r) {
+    EXPECT_FLOAT_EQ(n.sq_distance, 3.0f);
+    seen[n.index] = true;
+  }
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), true), 100);
+}
+
+TEST(KdTree, UserCloudTypeThroughTheConcept) {
+  user::MyCloud c{{{0, 0, 0}, {5, 5, 5}, {1, 1, 1}}};
+  KdTree3d tree(c);
+  EXPECT_EQ(tree.nearest(Eigen::Vector3d(0.9, 0.9, 0.9))->index, 2u);
+  KdTree3f treef(c);
+  EXPECT_EQ(treef.nearest(Eigen::Vector3f(4, 4, 4))->index, 1u);
+}
+
+TEST(KdTree, MoveKeepsTheIndex) {
+  std::vector<Eigen::Vector3f> pts{{1, 0, 0}, {2, 0, 0}};
+  KdTree3f a(pts);
+  KdTree3f b(std::move(a));
+  EXPECT_EQ(b.nearest(Eigen::Vector3f(2.1f, 0, 0))->index, 1u);
+  KdTree3f c;
+  c = std::move(b);
+  EXPECT_EQ(c.knn(Eigen::Vector3f(0, 0, 0), 2)[1].index, 1u);
+}
+
+}  // namespace
+}  // namespace rove
