@@ -5,13 +5,16 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdint>
+#include <optional>
 #include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "archive_helpers.h"
+#include "mrpt_read_helpers.h"
 #include "rove/core/error.h"
 #include "rove/obs/beacon_ranges.h"
 #include "rove/obs/bearing_range.h"
@@ -32,28 +35,13 @@ using detail::parse_guard;
 // data (older files) are orthonormal only to float precision.
 constexpr double kMrptRotationTolerance = 1e-4;
 
-const char* alternative_name(std::size_t index) {
-  static constexpr const char* kNames[] = {
-      "null object", "matrix",      "CPose2D",           "CPose3D",
-      "CPosePDFGaussian", "CPose3DPDFGaussian", "observation", "action",
-      "CActionCollection", "CSensoryFrame", "CPoint3D"};
-  return index < std::size(kNames) ? kNames[index] : "object";
-}
-
-// Reads a nested object and requires it to be of alternative T.
 template <typename T>
 T expect(InArchive& ar, std::string_view field, const char* what) {
-  const std::uint64_t at = ar.offset();
-  MrptObject o = read_mrpt_object(ar);
-  if (auto* p = std::get_if<T>(&o)) return std::move(*p);
-  ar.fail_at(at, field,
-             fmt::format("expected {} but found {}", what, alternative_name(o.index())));
+  return detail::expect_mrpt<T>(ar, field, what);
 }
 
 Timestamp read_timestamp(InArchive& ar, std::string_view field) {
-  const std::uint64_t at = ar.offset();
-  const auto ticks = ar.read_scalar<std::uint64_t>(field);
-  return parse_guard(ar, at, field, [&] { return Timestamp::from_mrpt(ticks); });
+  return detail::read_mrpt_timestamp(ar, field);
 }
 
 Twist2 read_twist2(InArchive& ar, std::string_view field) {
@@ -65,19 +53,12 @@ Twist2 read_twist2(InArchive& ar, std::string_view field) {
   return t;
 }
 
-// MRPT's deserializeSymmetricMatrixFrom: the N diagonal entries, then the
-// strict upper triangle row by row.
 template <typename S, int N>
 Eigen::Matrix<double, N, N> read_symmetric(InArchive& ar, std::string_view field) {
-  Eigen::Matrix<double, N, N> m;
-  for (int i = 0; i < N; ++i) m(i, i) = static_cast<double>(ar.read_scalar<S>(field));
-  for (int r = 0; r < N - 1; ++r) {
-    for (int c = r + 1; c < N; ++c) {
-      m(r, c) = m(c, r) = static_cast<double>(ar.read_scalar<S>(field));
-    }
-  }
-  return m;
+  return detail::read_mrpt_symmetric<S, N>(ar, field);
 }
+
+const char* alternative_name(std::size_t index) { return detail::mrpt_alternative_name(index); }
 
 Pose3 pose3_from_matrix(InArchive& ar, std::uint64_t at, const Eigen::MatrixXd& m) {
   if (m.rows() != 4 || m.cols() != 4) {
@@ -312,6 +293,34 @@ MrptObject read_bearing_range(InArchive& ar, const MrptObjectHeader& h) {
   return std::shared_ptr<Observation>(std::move(obs));
 }
 
+// auxEstimatePose, a CPose2D object read without Pose2's finiteness check:
+// MRPT writes phi = -inf (and may write non-finite x, y) for "not
+// estimated". Non-finite x or y: no estimate; non-finite phi: no heading.
+std::optional<BeaconAuxEstimate> read_beacon_aux_estimate(InArchive& ar) {
+  constexpr std::string_view kField = "CObservationBeaconRanges.auxEstimatePose";
+  const InArchive::NestingGuard nesting(ar, kField);
+  const MrptObjectHeader h = read_mrpt_object_header(ar);
+  const bool is_pose2 = h.class_name == "CPose2D" || h.class_name == "mrpt::poses::CPose2D";
+  if (h.is_null || !is_pose2) {
+    ar.fail_at(h.offset, kField, fmt::format("expected CPose2D but found '{}'", h.class_name));
+  }
+  double v[3];
+  if (h.version == 0) {
+    for (double& x : v) x = ar.read_scalar<float>(kField);
+  } else if (h.version == 1) {
+    for (double& x : v) x = ar.read_scalar<double>(kField);
+  } else {
+    throw_unknown_mrpt_version(ar, h);
+  }
+  expect_mrpt_end_marker(ar, h);
+  if (!std::isfinite(v[0]) || !std::isfinite(v[1])) return std::nullopt;
+  BeaconAuxEstimate e;
+  e.x_m = v[0];
+  e.y_m = v[1];
+  if (std::isfinite(v[2])) e.heading_rad = v[2];
+  return e;
+}
+
 // CObservationBeaconRanges::serializeFrom, versions 0..3.
 MrptObject read_beacon_ranges(InArchive& ar, const MrptObjectHeader& h) {
   constexpr std::string_view kField = "CObservationBeaconRanges";
@@ -331,10 +340,7 @@ MrptObject read_beacon_ranges(InArchive& ar, const MrptObjectHeader& h) {
     r.beacon_id = static_cast<std::int32_t>(ar.read_scalar<std::uint32_t>(kField));
     obs->readings.push_back(r);
   }
-  if (h.version >= 1) {
-    // auxEstimatePose: no rove field.
-    expect<Pose2>(ar, "CObservationBeaconRanges.auxEstimatePose", "CPose2D");
-  }
+  if (h.version >= 1) obs->aux_estimate = read_beacon_aux_estimate(ar);
   if (h.version >= 2) {
     obs->sensor_label = read_mrpt_string(ar, "CObservationBeaconRanges.sensorLabel");
   }
@@ -460,9 +466,10 @@ MrptClassReaders<MrptObject> make_readers() {
   MrptClassReaders<MrptObject> r;
   // MRPT 2.x writes class names with their namespace ("mrpt::obs::CSensoryFrame");
   // older files use the bare name. Both spellings are registered.
-  const auto add = [&r](std::string_view ns, const std::string& name, auto reader) {
+  const detail::MrptReaderAdder add = [&r](std::string_view ns, const std::string& name,
+                                            MrptClassReaders<MrptObject>::Reader reader) {
     r.add(name, reader);
-    r.add(std::string(ns) + name, reader);
+    r.add(std::string(ns) + name, std::move(reader));
   };
   add("mrpt::poses::", "CPose2D", read_pose2);
   add("mrpt::poses::", "CPose3D", read_pose3);
@@ -480,6 +487,8 @@ MrptClassReaders<MrptObject> make_readers() {
   add("mrpt::obs::", "CActionCollection", read_action_collection);
   add("mrpt::obs::", "CSensoryFrame", read_sensory_frame);
   r.add("CSensorialFrame", read_sensory_frame);  // its name in MRPT < 0.6
+  detail::add_mrpt_pdf_readers(add);
+  detail::add_mrpt_sensor_readers(add);
   return r;
 }
 

@@ -3,6 +3,7 @@
 #include "rove/obs/action_collection.h"
 #include "rove/obs/beacon_ranges.h"
 #include "rove/obs/bearing_range.h"
+#include "rove/obs/comment_observation.h"
 #include "rove/obs/gps_observation.h"
 #include "rove/obs/image_observation.h"
 #include "rove/obs/imu_observation.h"
@@ -10,7 +11,10 @@
 #include "rove/obs/range_image_3d.h"
 #include "rove/obs/range_scan_2d.h"
 #include "rove/obs/robot_movement_2d.h"
+#include "rove/obs/robot_movement_3d.h"
+#include "rove/obs/rotating_scan.h"
 #include "rove/obs/sensory_frame.h"
+#include "rove/obs/velodyne_scan.h"
 
 namespace rove {
 
@@ -25,6 +29,10 @@ void register_obs_classes(ClassRegistry& registry) {
   registry.add<ImuObservation>(true);
   registry.add<GpsObservation>(true);
   registry.add<RobotMovement2D>(true);
+  registry.add<RobotMovement3D>(true);
+  registry.add<CommentObservation>(true);
+  registry.add<RotatingScan>(true);
+  registry.add<VelodyneScan>(true);
   registry.add<SensoryFrame>(true);
   registry.add<ActionCollection>(true);
 }

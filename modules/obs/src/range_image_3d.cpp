@@ -1,6 +1,8 @@
 #include "rove/obs/range_image_3d.h"
 
 #include <cmath>
+#include <span>
+#include <string>
 
 #include "archive_helpers.h"
 #include "rove/core/check.h"
@@ -15,9 +17,24 @@ Pose3 sensor_from_optical() { return Pose3(0.0, 0.0, 0.0, -kPi / 2.0, 0.0, -kPi 
 void RangeImage3D::check() const {
   depth.check();
   depth_camera.check();
-  ROVE_CHECK_MSG(depth.width == depth_camera.width && depth.height == depth_camera.height,
+  ROVE_CHECK_MSG(depth.pixel_count() == 0 ||
+                     (depth.width == depth_camera.width && depth.height == depth_camera.height),
                  "RangeImage3D: depth image is {}x{} but depth_camera is {}x{}", depth.width,
                  depth.height, depth_camera.width, depth_camera.height);
+  for (const auto& [name, layer] : other_depth_layers) {
+    layer.check();
+    ROVE_CHECK_MSG(layer.width == depth.width && layer.height == depth.height,
+                   "RangeImage3D: depth layer '{}' is {}x{} but depth is {}x{}", name,
+                   layer.width, layer.height, depth.width, depth.height);
+  }
+  if (points) {
+    const std::size_t n = points->p_sensor.size();
+    ROVE_CHECK_MSG((points->pixel_u.empty() && points->pixel_v.empty()) ||
+                       (points->pixel_u.size() == n && points->pixel_v.size() == n),
+                   "RangeImage3D: {} points but {}/{} pixel coordinates", n,
+                   points->pixel_u.size(), points->pixel_v.size());
+  }
+  if (confidence) confidence->check();
   ROVE_CHECK_MSG(!std::isnan(max_range) && max_range > 0.0,
                  "RangeImage3D: max_range {} m must be > 0", max_range);
   if (intensity) intensity->check();
@@ -76,7 +93,10 @@ bool operator==(const RangeImage3D& a, const RangeImage3D& b) {
   return a.header_equals(b) && a.depth == b.depth && a.range_is_depth == b.range_is_depth &&
          a.max_range == b.max_range && a.depth_camera == b.depth_camera &&
          a.intensity == b.intensity && a.intensity_camera == b.intensity_camera &&
-         a.T_sensor_intensity == b.T_sensor_intensity;
+         a.T_sensor_intensity == b.T_sensor_intensity &&
+         a.intensity_channel == b.intensity_channel && a.confidence == b.confidence &&
+         a.points == b.points && a.std_error_m == b.std_error_m &&
+         a.other_depth_layers == b.other_depth_layers;
 }
 
 void RangeImage3D::save_payload(OutArchive& ar) const {
@@ -88,9 +108,39 @@ void RangeImage3D::save_payload(OutArchive& ar) const {
   save(ar, intensity);
   save(ar, intensity_camera);
   detail::save_pose3(ar, T_sensor_intensity);
+  // version 2
+  ar.write_scalar(static_cast<std::uint8_t>(intensity_channel));
+  save(ar, confidence);
+  save(ar, points);
+  ar.write_scalar(std_error_m);
+  save(ar, other_depth_layers);
 }
 
-void RangeImage3D::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
+void save(OutArchive& ar, const RangeImagePoints& p) {
+  write_version(ar, 1);
+  ar.write_length(p.p_sensor.size(), "points");
+  for (const Eigen::Vector3f& v : p.p_sensor) {
+    ar.write_scalars(std::span<const float>(v.data(), 3));
+  }
+  save(ar, p.pixel_u);
+  save(ar, p.pixel_v);
+}
+
+void load(InArchive& ar, RangeImagePoints& p) {
+  read_version(ar, "RangeImagePoints", 1);
+  const std::uint32_t n = ar.read_length("points", 3 * sizeof(float));
+  p.p_sensor.assign(n, Eigen::Vector3f::Zero());
+  for (Eigen::Vector3f& v : p.p_sensor) ar.read_scalars(std::span<float>(v.data(), 3), "points");
+  const std::uint64_t at = ar.offset();
+  load(ar, p.pixel_u);
+  load(ar, p.pixel_v);
+  if (!((p.pixel_u.empty() && p.pixel_v.empty()) ||
+        (p.pixel_u.size() == n && p.pixel_v.size() == n))) {
+    ar.fail_at(at, "pixel_u", "pixel coordinates do not match the point count");
+  }
+}
+
+void RangeImage3D::load_payload(InArchive& ar, std::uint8_t version) {
   load_header(ar);
   load(ar, depth);
   range_is_depth = ar.read_scalar<bool>("range_is_depth");
@@ -99,6 +149,21 @@ void RangeImage3D::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   load(ar, intensity);
   load(ar, intensity_camera);
   T_sensor_intensity = detail::load_pose3(ar, "T_sensor_intensity");
+  intensity_channel = IntensityChannel::kVisible;
+  confidence.reset();
+  points.reset();
+  std_error_m = 0.01;
+  other_depth_layers.clear();
+  if (version >= 2) {
+    const std::uint64_t at = ar.offset();
+    const auto c = ar.read_scalar<std::uint8_t>("intensity_channel");
+    if (c > 1) ar.fail_at(at, "intensity_channel", "unknown intensity channel " + std::to_string(c));
+    intensity_channel = static_cast<IntensityChannel>(c);
+    load(ar, confidence);
+    load(ar, points);
+    std_error_m = ar.read_scalar<double>("std_error");
+    load(ar, other_depth_layers);
+  }
 }
 
 std::unique_ptr<Observation> RangeImage3D::clone() const {

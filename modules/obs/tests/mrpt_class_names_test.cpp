@@ -14,5 +14,5 @@ TEST(MrptClassNames, BareAndNamespacedSpellingsAreSupported) {
     EXPECT_TRUE(rove::is_supported_mrpt_class(name)) << name;
   }
   EXPECT_FALSE(rove::is_supported_mrpt_class("mrpt::obs::CPose3D"));
-  EXPECT_FALSE(rove::is_supported_mrpt_class("mrpt::obs::CObservationVelodyneScan"));
+  EXPECT_FALSE(rove::is_supported_mrpt_class("mrpt::obs::CObservationStereoImages"));
 }

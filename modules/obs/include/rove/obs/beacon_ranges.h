@@ -29,6 +29,18 @@ struct BeaconRange {
   friend bool operator==(const BeaconRange&, const BeaconRange&) = default;
 };
 
+/// A position estimate some beacon systems (e.g. UWB) compute themselves and
+/// attach to their readings (MRPT's auxEstimatePose), in the map frame.
+struct BeaconAuxEstimate {
+  double x_m = 0.0;  ///< meters
+  double y_m = 0.0;  ///< meters
+  /// Heading, radians, if the system estimated one (MRPT writes −inf when
+  /// it did not).
+  std::optional<double> heading_rad;
+  /// Exact equality.
+  friend bool operator==(const BeaconAuxEstimate&, const BeaconAuxEstimate&) = default;
+};
+
 /// Ranges to several beacons taken at once.
 class BeaconRanges final : public Observation {
  public:
@@ -43,6 +55,8 @@ class BeaconRanges final : public Observation {
   float max_sensor_distance = 1e2f;
   /// Standard deviation of a range, meters (MRPT's `stdError`).
   float std_error = 1e-2f;
+  /// The beacon system's own position estimate, if it gave one (version 2).
+  std::optional<BeaconAuxEstimate> aux_estimate;
 
   /// No readings.
   BeaconRanges() = default;
@@ -56,7 +70,7 @@ class BeaconRanges final : public Observation {
   /// The stored class name (kClassName).
   std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
-  std::uint8_t version() const override { return 1; }
+  std::uint8_t version() const override { return 2; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.

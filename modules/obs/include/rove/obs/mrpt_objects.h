@@ -13,8 +13,19 @@
 ///    field and are dropped);
 ///  - CObservationOdometry v0..2 → OdometryObservation;
 ///  - CObservationBearingRange v0..3 → BearingRange;
-///  - CObservationBeaconRanges v0..3 → BeaconRanges (MRPT's auxEstimatePose,
-///    a pose estimate some sensors attach, has no rove field and is dropped);
+///  - CObservationBeaconRanges v0..3 → BeaconRanges (auxEstimatePose →
+///    aux_estimate; MRPT's −inf heading, "not estimated", → no heading);
+///  - CPosePDFParticles v0..1, CPosePDFSOG v0..2 → Pose2Particles, Pose2SOG;
+///    CPose3DPDFParticles v0..1, CPose3DPDFSOG v0, v2 → Pose3Particles, Pose3SOG;
+///  - CActionRobotMovement3D v0..1 → RobotMovement3D;
+///  - CObservationComment v0 → CommentObservation;
+///  - CObservationRotatingScan v0 → RotatingScan;
+///  - CObservationVelodyneScan v0..2 → VelodyneScan;
+///  - CObservationGPS v1..11 → GpsObservation (NMEA GGA and RMC; TOPCON PZS
+///    / SATS and other message types are rejected);
+///  - CObservation3DRangeScan v0..10 → RangeImage3D, with CImage v2..9
+///    (gray 8/16-bit/float and raw color; JPEG, zip and external files are
+///    rejected) → Image and TCamera v0..6 (none / plumb_bob) → PinholeCamera;
 ///  - CActionRobotMovement2D v4..7 → RobotMovement2D (odometry increment and
 ///    motion model as stored; a stored PDF other than CPosePDFGaussian is
 ///    rejected);
@@ -32,10 +43,14 @@
 
 #include "rove/obs/action.h"
 #include "rove/obs/action_collection.h"
+#include "rove/obs/image.h"
 #include "rove/obs/observation.h"
+#include "rove/obs/pinhole_camera.h"
 #include "rove/obs/sensory_frame.h"
 #include "rove/poses/pdf_gaussian2.h"
 #include "rove/poses/pdf_gaussian3.h"
+#include "rove/poses/pdf_particles.h"
+#include "rove/poses/pdf_sog.h"
 #include "rove/poses/point3.h"
 #include "rove/poses/pose2.h"
 #include "rove/poses/pose3.h"
@@ -48,7 +63,8 @@ namespace rove {
 using MrptObject =
     std::variant<std::monostate, Eigen::MatrixXd, Pose2, Pose3, Pose2Gaussian, Pose3Gaussian,
                  std::shared_ptr<Observation>, std::shared_ptr<Action>,
-                 std::shared_ptr<ActionCollection>, std::shared_ptr<SensoryFrame>, Point3>;
+                 std::shared_ptr<ActionCollection>, std::shared_ptr<SensoryFrame>, Point3,
+                 Pose2Particles, Pose2SOG, Pose3Particles, Pose3SOG, Image, PinholeCamera>;
 
 /// Reads one whole MRPT object (header, payload, end marker) at the current
 /// position of `ar`. Throws rove::ParseError (source, byte offset, class) on

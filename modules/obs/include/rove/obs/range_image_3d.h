@@ -15,7 +15,9 @@
 ///    refers to the x-forward sensor frame).
 
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <string>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -59,6 +61,30 @@ struct RangeImageProjection {
   std::vector<std::uint32_t> pixel_v;
 };
 
+/// Which light the intensity image records (MRPT's intensityImageChannel).
+enum class IntensityChannel : std::uint8_t {
+  kVisible = 0,   ///< a color or gray camera
+  kInfrared = 1,  ///< the depth sensor's infrared camera
+};
+
+/// 3D points a sensor (or its driver) computed and stored with the image,
+/// in the sensor frame (x forward, y left, z up), meters, float as stored.
+struct RangeImagePoints {
+  /// The points.
+  std::vector<Eigen::Vector3f> p_sensor;
+  /// Column and row of the pixel each point came from; both empty when the
+  /// source did not store them (MRPT files before version 8).
+  std::vector<std::uint16_t> pixel_u, pixel_v;
+  /// Exact equality.
+  friend bool operator==(const RangeImagePoints&, const RangeImagePoints&) = default;
+};
+
+/// Writes RangeImagePoints (versioned record).
+void save(OutArchive& ar, const RangeImagePoints& p);
+/// Reads RangeImagePoints written by save; pixel vectors whose size is
+/// neither 0 nor the point count are a ParseError.
+void load(InArchive& ar, RangeImagePoints& p);
+
 /// A depth/range image with its camera model and an optional intensity image.
 class RangeImage3D final : public Observation {
  public:
@@ -85,12 +111,27 @@ class RangeImage3D final : public Observation {
   /// depth sensor frame (x forward), MRPT's `relativePoseIntensityWRTDepth`.
   /// Default: both cameras coincide, sensor_from_optical().
   Pose3 T_sensor_intensity = sensor_from_optical();
+  /// Which light the intensity image records (version 2).
+  IntensityChannel intensity_channel = IntensityChannel::kVisible;
+  /// A per-pixel confidence image from the sensor, if any (version 2).
+  std::optional<Image> confidence;
+  /// Points stored with the image, if any (version 2).
+  std::optional<RangeImagePoints> points;
+  /// Standard deviation of a depth measurement, meters (MRPT's stdError;
+  /// version 2).
+  double std_error_m = 0.01;
+  /// Further depth layers by name (e.g. a second return), each the size of
+  /// depth (version 2).
+  std::map<std::string, DepthImage> other_depth_layers;
 
   /// An empty observation.
   RangeImage3D() = default;
 
   /// Throws InvalidArgument unless depth passes its check, its size equals
-  /// depth_camera's (width, height), depth_camera passes its check,
+  /// depth_camera's (width, height) (unless depth is empty: an observation
+  /// may carry only points), depth_camera passes its check, every other
+  /// depth layer passes its check and has depth's size, the points' pixel
+  /// vectors are empty or one per point,
   /// max_range is > 0 (may be +inf), and the intensity image (if any) passes
   /// its check.
   void check() const;
@@ -112,7 +153,7 @@ class RangeImage3D final : public Observation {
   /// The stored class name (kClassName).
   std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
-  std::uint8_t version() const override { return 1; }
+  std::uint8_t version() const override { return 2; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.
