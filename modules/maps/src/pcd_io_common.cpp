@@ -1,0 +1,96 @@
+#include "pcd_io_common.h"
+
+#include <cerrno>
+#include <charconv>
+#include <cstdio>
+#include <memory>
+#include <system_error>
+
+#include "rove/core/error.h"
+
+namespace rove::detail {
+
+namespace {
+struct FileCloser {
+  void operator()(std::FILE* f) const noexcept { std::fclose(f); }
+};
+}  // namespace
+
+std::vector<std::uint8_t> read_file_bytes(const std::string& path) {
+  std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
+  if (!f) throw IoError(path, std::string("cannot open for reading: ") + std::strerror(errno));
+  if (std::fseek(f.get(), 0, SEEK_END) != 0) throw IoError(path, "cannot seek");
+  const long size = std::ftell(f.get());
+  if (size < 0) throw IoError(path, "cannot tell the file size");
+  std::rewind(f.get());
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
+  if (size > 0 && std::fread(bytes.data(), 1, bytes.size(), f.get()) != bytes.size())
+    throw IoError(path, "short read");
+  return bytes;
+}
+
+void write_file_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+  std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "wb"));
+  if (!f) throw IoError(path, std::string("cannot open for writing: ") + std::strerror(errno));
+  if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size())
+    throw IoError(path, "short write");
+  if (std::fflush(f.get()) != 0) throw IoError(path, "cannot flush");
+}
+
+std::size_t scalar_size(ScalarKind k) noexcept {
+  switch (k) {
+    case ScalarKind::kI8: case ScalarKind::kU8: return 1;
+    case ScalarKind::kI16: case ScalarKind::kU16: return 2;
+    case ScalarKind::kI32: case ScalarKind::kU32: case ScalarKind::kF32: return 4;
+    case ScalarKind::kI64: case ScalarKind::kU64: case ScalarKind::kF64: return 8;
+  }
+  return 0;
+}
+
+namespace {
+template <typename T>
+T load_as(const std::uint8_t* p, bool swap) noexcept {
+  std::uint8_t b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if (swap)
+    for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return v;
+}
+}  // namespace
+
+double load_scalar(const std::uint8_t* p, ScalarKind k, bool swap) noexcept {
+  switch (k) {
+    case ScalarKind::kI8: return load_as<std::int8_t>(p, swap);
+    case ScalarKind::kU8: return load_as<std::uint8_t>(p, swap);
+    case ScalarKind::kI16: return load_as<std::int16_t>(p, swap);
+    case ScalarKind::kU16: return load_as<std::uint16_t>(p, swap);
+    case ScalarKind::kI32: return load_as<std::int32_t>(p, swap);
+    case ScalarKind::kU32: return load_as<std::uint32_t>(p, swap);
+    case ScalarKind::kI64: return static_cast<double>(load_as<std::int64_t>(p, swap));
+    case ScalarKind::kU64: return static_cast<double>(load_as<std::uint64_t>(p, swap));
+    case ScalarKind::kF32: return load_as<float>(p, swap);
+    case ScalarKind::kF64: return load_as<double>(p, swap);
+  }
+  return 0;
+}
+
+void append_float(std::string& out, float v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+  out.append(buf, r.ptr);
+}
+
+void split_tokens(std::string_view line, std::vector<std::string_view>& tokens) {
+  tokens.clear();
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+    if (i > start) tokens.push_back(line.substr(start, i - start));
+  }
+}
+
+}  // namespace rove::detail
