@@ -1,0 +1,106 @@
+#include "rove/obs/any_rawlog.h"
+
+#include <array>
+#include <cstring>
+#include <utility>
+
+#include "rove/core/error.h"
+#include "rove/serialization/input_file.h"
+
+namespace rove {
+namespace {
+
+bool is_text_byte(unsigned char c) { return c == '\t' || c == '\n' || c == '\r' || (c >= 0x20 && c < 0x7f); }
+
+}  // namespace
+
+std::string_view to_string(RawlogFormat format) noexcept {
+  switch (format) {
+    case RawlogFormat::kRove: return "rove";
+    case RawlogFormat::kMrpt: return "MRPT";
+    case RawlogFormat::kCarmen: return "CARMEN";
+  }
+  return "unknown";
+}
+
+RawlogFormat detect_rawlog_format(const std::string& path) {
+  std::unique_ptr<InStream> in = open_input_file(path);
+  std::array<std::byte, 8> head{};
+  std::size_t n = 0;
+  while (n < head.size()) {
+    const std::size_t got = in->read_some(std::span<std::byte>(head).subspan(n));
+    if (got == 0) break;
+    n += got;
+  }
+  if (n == 0) {
+    throw ParseError({path, std::nullopt, 0, "format"},
+                     "empty file: not a rove rawlog, MRPT rawlog or CARMEN log");
+  }
+  if (n == head.size() && std::memcmp(head.data(), kRoveRawlogMagic.data(), head.size()) == 0) {
+    return RawlogFormat::kRove;
+  }
+  if (n >= 3 && std::memcmp(head.data(), "BZh", 3) == 0) return RawlogFormat::kCarmen;
+  bool text = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    text = text && is_text_byte(std::to_integer<unsigned char>(head[i]));
+  }
+  return text ? RawlogFormat::kCarmen : RawlogFormat::kMrpt;
+}
+
+AnyRawlogReader::AnyRawlogReader(const std::string& path, AnyRawlogOptions options)
+    : path_(path), format_(detect_rawlog_format(path)) {
+  switch (format_) {
+    case RawlogFormat::kRove:
+      rove_ = std::make_unique<RoveRawlogReader>(path, options.rove);
+      break;
+    case RawlogFormat::kMrpt:
+      mrpt_ = std::make_unique<RawlogReader>(path, options.mrpt);
+      break;
+    case RawlogFormat::kCarmen:
+      if (is_gzip_file(path)) {
+        throw ParseError({path, std::nullopt, 0, "format"},
+                         "a gzip-compressed CARMEN log: decompress it (or use bzip2) first");
+      }
+      carmen_ = std::make_unique<CarmenRawlogSource>(
+          CarmenRawlogSource::open(path, std::move(options.carmen)));
+      break;
+  }
+}
+
+AnyRawlogReader::~AnyRawlogReader() = default;
+
+std::optional<RawlogEntry> AnyRawlogReader::next() {
+  std::optional<RawlogEntry> e;
+  if (rove_) {
+    e = rove_->next();
+  } else if (mrpt_) {
+    e = mrpt_->next();
+  } else {
+    e = carmen_->next();
+  }
+  if (e) ++entries_;
+  return e;
+}
+
+std::uint64_t AnyRawlogReader::position() const {
+  if (rove_) return rove_->offset();
+  if (mrpt_) return mrpt_->offset();
+  return carmen_->lines_read();
+}
+
+std::optional<RawlogLayout> AnyRawlogReader::declared_layout() const {
+  if (rove_) return rove_->layout();
+  if (carmen_) return carmen_->layout();
+  return std::nullopt;
+}
+
+AnyRawlog load_any_rawlog(const std::string& path, AnyRawlogOptions options) {
+  AnyRawlogReader reader(path, std::move(options));
+  AnyRawlog out;
+  out.format = reader.format();
+  while (auto e = reader.next()) out.entries.push_back(std::move(*e));
+  out.layout = layout_of(out.entries);
+  return out;
+}
+
+}  // namespace rove
