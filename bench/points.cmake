@@ -1,0 +1,13 @@
+# Point clouds against PCL 1.13: voxel grid, KD-tree build + kNN, PCD load.
+# Built only when PCL is found (it is a peer, never a requirement). The data
+# comes from ../shared/datasets/pointcloud (see bench/RESULTS.md).
+find_package(PCL 1.13 QUIET COMPONENTS common io filters kdtree)
+if(PCL_FOUND)
+  rove_add_bench(bench_points_vs_pcl SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/points_vs_pcl.cpp
+                 LIBS rove::maps ${PCL_LIBRARIES})
+  target_include_directories(bench_points_vs_pcl SYSTEM PRIVATE ${PCL_INCLUDE_DIRS})
+  target_compile_definitions(bench_points_vs_pcl PRIVATE ${PCL_DEFINITIONS}
+    ROVE_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/datasets/pointcloud")
+else()
+  message(STATUS "rove bench: PCL 1.13 not found, bench_points_vs_pcl is skipped")
+endif()
