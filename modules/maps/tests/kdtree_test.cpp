@@ -10,6 +10,8 @@
 
 #include "rove/core/error.h"
 #include "rove/maps/point_cloud.h"
+#include "rove/maps/pcd.h"
+#include "rove/maps/ply.h"
 #include "rove/maps/point_cloud_concept.h"
 
 namespace rove {
@@ -117,13 +119,13 @@ void random_check(std::size_t n, std::size_t leaf, unsigned seed, bool with_nans
   }
 }
 
-TEST(KdTree, MatchesBruteForce3f) { random_check<3, float>(3000, 10, 1, false, false); }
-TEST(KdTree, MatchesBruteForce2f) { random_check<2, float>(3000, 10, 2, false, false); }
-TEST(KdTree, MatchesBruteForce3d) { random_check<3, double>(2000, 4, 3, false, false); }
-TEST(KdTree, MatchesBruteForce2d) { random_check<2, double>(2000, 1, 4, false, false); }
+TEST(KdTree, MatchesBruteForce3f) { random_check<3, float>(1500, 10, 1, false, false); }
+TEST(KdTree, MatchesBruteForce2f) { random_check<2, float>(1500, 10, 2, false, false); }
+TEST(KdTree, MatchesBruteForce3d) { random_check<3, double>(1200, 4, 3, false, false); }
+TEST(KdTree, MatchesBruteForce2d) { random_check<2, double>(1200, 1, 4, false, false); }
 TEST(KdTree, SkipsNonFinitePoints) { random_check<3, float>(1500, 10, 5, true, false); }
-TEST(KdTree, ManyTiesOnAGrid) { random_check<3, float>(2000, 16, 6, false, true); }
-TEST(KdTree, ManyTiesOnAGrid2D) { random_check<2, float>(2000, 3, 7, false, true); }
+TEST(KdTree, ManyTiesOnAGrid) { random_check<3, float>(1200, 16, 6, false, true); }
+TEST(KdTree, ManyTiesOnAGrid2D) { random_check<2, float>(1200, 3, 7, false, true); }
 
 TEST(KdTree, TwoDimensionalTreeOverA3DCloudIgnoresZ) {
   PointCloud c;
@@ -205,6 +207,29 @@ TEST(KdTree, MoveKeepsTheIndex) {
   KdTree3f c;
   c = std::move(b);
   EXPECT_EQ(c.knn(Eigen::Vector3f(0, 0, 0), 2)[1].index, 1u);
+}
+
+TEST(KdTree, MatchesBruteForceOnTheRealClouds) {
+  const std::string dir = std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/pointcloud/";
+  const PointCloud room1 = read_pcd(dir + "room_scan1.pcd");
+  const PointCloud room2 = read_pcd(dir + "room_scan2.pcd");
+  const PointCloud gicp = read_ply(dir + "small_gicp_target.ply");
+  for (const PointCloud* c : {&room1, &gicp}) {
+    KdTree3f tree(*c);
+    KdTree2f tree2(*c);
+    for (std::size_t t = 0; t < 12; ++t) {
+      const Eigen::Vector3f q = room2[t * 9001 % room2.size()] + Eigen::Vector3f(0.05f, -0.02f, 0.01f);
+      const auto all = brute_all<3, float>(c->points(), q);
+      expect_same_knn(tree.knn(q, 8), all, 8);
+      std::vector<Eigen::Vector2f> xy;
+      for (const auto& p : c->points()) xy.push_back(p.head<2>());
+      const auto all2 = brute_all<2, float>(xy, q.head<2>());
+      expect_same_knn(tree2.knn(q.head<2>(), 4), all2, 4);
+      std::size_t within = 0;
+      for (const auto& a : all) within += a.sq_distance <= 0.2f * 0.2f ? 1 : 0;
+      EXPECT_EQ(tree.radius(q, 0.2f).size(), within);
+    }
+  }
 }
 
 }  // namespace
