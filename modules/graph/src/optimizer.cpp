@@ -1,0 +1,803 @@
+// Gauss–Newton, Levenberg–Marquardt and dog-leg on 2D/3D pose graphs.
+#include "rove/graph/optimizer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <thread>
+#include <unordered_map>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/OrderingMethods>
+#include <fmt/format.h>
+
+#include "rove/core/check.h"
+#include "rove/core/error.h"
+#include "rove/core/timer.h"
+#include "rove/graph/edge_error.h"
+#include "sparse_cholesky.h"
+
+namespace rove {
+
+namespace detail {
+bool cholmod_built() noexcept;
+}  // namespace detail
+
+namespace {
+
+// Runs f(begin, end) over [0, n) split into `threads` contiguous chunks.
+template <class F>
+void parallel_for(int threads, std::size_t n, F&& f) {
+  const std::size_t t = std::min<std::size_t>(static_cast<std::size_t>(std::max(threads, 1)),
+                                              std::max<std::size_t>(n / 64, 1));
+  if (t <= 1) {
+    f(std::size_t{0}, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  pool.reserve(t - 1);
+  const std::size_t chunk = (n + t - 1) / t;
+  for (std::size_t k = 1; k < t; ++k) {
+    const std::size_t b = k * chunk, e = std::min(n, b + chunk);
+    if (b < e) pool.emplace_back([&f, b, e] { f(b, e); });
+  }
+  f(std::size_t{0}, std::min(n, chunk));
+  for (auto& th : pool) th.join();
+}
+
+std::string vertex_list(const std::vector<VertexId>& ids, std::size_t max_shown = 10) {
+  std::string s;
+  for (std::size_t k = 0; k < ids.size() && k < max_shown; ++k) {
+    if (k) s += ", ";
+    s += std::to_string(ids[k]);
+  }
+  if (ids.size() > max_shown) s += fmt::format(", ... ({} in all)", ids.size());
+  return s;
+}
+
+template <class PoseT>
+class Engine {
+ public:
+  static constexpr int D = PoseT::kDof;
+  using Mat = Eigen::Matrix<double, D, D>;
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Graph = PoseGraph<PoseT>;
+
+  Engine(Graph& graph, const GraphOptimizerOptions& options)
+      : graph_(graph), options_(options), solver_(options.linear_solver) {}
+
+  GraphOptimizerResult run();
+
+ private:
+  struct Active {
+    std::size_t index;       // edge index in the graph
+    int si, sj;              // slots of the two vertices
+    RobustKernel kernel;
+    int block = -1;          // off-diagonal block, -1 if an end is fixed
+    bool transposed = false; // block holds Hji (position of j < position of i)
+  };
+  struct Linear {
+    Vec e;
+    Mat Ji, Jj;
+    double s = 0.0;   // eᵀΩe
+    double w = 1.0;   // ρ'(s)
+    double rho = 0.0; // ρ(s)
+  };
+
+  bool setup(GraphOptimizerResult& result);
+  void build_structure();
+  // Residuals, Jacobians and weights of every edge at `poses` (parallel).
+  void linearize_edges(const std::vector<PoseT>& poses, bool jacobians);
+  // χ² at `poses`; per-edge terms summed in edge order.
+  double chi2_at(const std::vector<PoseT>& poses);
+  // Normal equations from lin_ into H_ (values) and g_.
+  bool assemble(GraphOptimizerResult& result);
+  bool factorize_damped(double lambda);
+  void diagnose_factorization(std::optional<long> column, GraphOptimizerResult& result);
+  void apply_step(const Eigen::VectorXd& delta, std::vector<PoseT>& out) const;
+  Eigen::VectorXd multiply_h(const Eigen::VectorXd& x) const;
+  double translation_norm() const;
+  void write_back();
+  bool check_edges_finite(GraphOptimizerResult& result);
+
+  Graph& graph_;
+  const GraphOptimizerOptions& options_;
+  detail::SparseCholesky solver_;
+
+  std::vector<VertexId> slot_id_;
+  std::vector<PoseT> poses_;
+  std::vector<int> slot_pos_;  // block position (elimination order) or -1 if fixed
+  std::vector<int> pos_slot_;
+  std::vector<Active> edges_;
+  std::vector<Linear> lin_;
+  std::vector<const PoseGraphEdge<PoseT>*> edge_ptr_;
+  std::vector<double> term_;
+
+  int n_ = 0;  // optimized vertices
+  detail::SparseCholesky::Matrix H_;
+  std::vector<int> block_base_;  // per off-diagonal block: D column offsets
+  std::vector<int> diag_base_;   // per position: D column offsets of the diagonal block
+  std::vector<int> diag_index_;  // per scalar column: index of the diagonal entry
+  std::vector<double> diag_;     // undamped diagonal
+  Eigen::VectorXd g_;
+  double chi2_ = 0.0;
+  std::optional<long> last_failure_column_;
+};
+
+template <class PoseT>
+bool Engine<PoseT>::setup(GraphOptimizerResult& result) {
+  std::unordered_map<VertexId, int> slot_of;
+  slot_of.reserve(graph_.num_vertices());
+  const auto& all = graph_.edges();
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const auto& e = all[k];
+    if (e.level != options_.level) continue;
+    int s[2];
+    const VertexId ends[2] = {e.from, e.to};
+    for (int m = 0; m < 2; ++m) {
+      auto [it, inserted] = slot_of.emplace(ends[m], static_cast<int>(slot_id_.size()));
+      if (inserted) {
+        slot_id_.push_back(ends[m]);
+        poses_.push_back(graph_.pose(ends[m]));
+      }
+      s[m] = it->second;
+    }
+    Active a;
+    a.index = k;
+    a.si = s[0];
+    a.sj = s[1];
+    a.kernel = options_.robust_kernel ? *options_.robust_kernel : e.kernel;
+    edges_.push_back(a);
+    edge_ptr_.push_back(&e);
+  }
+  result.num_edges_used = edges_.size();
+  const int slots = static_cast<int>(slot_id_.size());
+  std::vector<char> fixed(static_cast<std::size_t>(slots), 0);
+  bool any_fixed = false;
+  for (int s = 0; s < slots; ++s) {
+    fixed[s] = graph_.is_fixed(slot_id_[s]) ? 1 : 0;
+    any_fixed = any_fixed || fixed[s];
+  }
+  if (options_.anchor) {
+    auto it = slot_of.find(*options_.anchor);
+    if (it == slot_of.end()) {
+      result.termination = GraphTermination::InvalidInput;
+      result.message = fmt::format("anchor vertex {} is not touched by any edge of level {}",
+                                   *options_.anchor, options_.level);
+      return false;
+    }
+    fixed[it->second] = 1;
+    any_fixed = true;
+  }
+  if (!any_fixed && slots > 0) {
+    // Gauge freedom: hold the lowest-id vertex where it is.
+    int lowest = 0;
+    for (int s = 1; s < slots; ++s)
+      if (slot_id_[s] < slot_id_[lowest]) lowest = s;
+    fixed[lowest] = 1;
+    result.gauge_anchor = slot_id_[lowest];
+  }
+  // Connectivity: every component must hold an anchor.
+  std::vector<int> parent(static_cast<std::size_t>(slots));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& a : edges_) parent[find(a.si)] = find(a.sj);
+  std::vector<char> anchored(static_cast<std::size_t>(slots), 0);
+  for (int s = 0; s < slots; ++s)
+    if (fixed[s]) anchored[find(s)] = 1;
+  std::vector<VertexId> loose;
+  for (int s = 0; s < slots; ++s)
+    if (!anchored[find(s)]) loose.push_back(slot_id_[s]);
+  if (!loose.empty()) {
+    std::sort(loose.begin(), loose.end());
+    for (std::size_t k = 0; k < loose.size() && k < 20; ++k) {
+      result.issues.push_back({GraphIssue::Kind::DisconnectedVertex, static_cast<std::size_t>(-1),
+                               loose[k],
+                               fmt::format("vertex {} is not connected to an anchored vertex "
+                                           "through edges of level {}",
+                                           loose[k], options_.level)});
+    }
+    result.termination = GraphTermination::InvalidInput;
+    result.message = fmt::format(
+        "{} vertices are not connected to an anchored vertex (gauge undetermined): {}; anchor "
+        "one vertex of each component (FIX) or add edges",
+        loose.size(), vertex_list(loose));
+    return false;
+  }
+  slot_pos_.assign(static_cast<std::size_t>(slots), -1);
+  std::vector<int> var_slot;
+  for (int s = 0; s < slots; ++s) {
+    if (!fixed[s]) {
+      slot_pos_[s] = static_cast<int>(var_slot.size());
+      var_slot.push_back(s);
+    } else {
+      ++result.num_vertices_fixed;
+    }
+  }
+  n_ = static_cast<int>(var_slot.size());
+  result.num_vertices_optimized = static_cast<std::size_t>(n_);
+  if (n_ == 0) return true;
+
+  // Fill-reducing order of the vertex blocks: AMD on the vertex graph.
+  {
+    std::vector<Eigen::Triplet<int>> trip;
+    trip.reserve(edges_.size() * 2 + static_cast<std::size_t>(n_));
+    for (int v = 0; v < n_; ++v) trip.emplace_back(v, v, 1);
+    for (const auto& a : edges_) {
+      const int vi = slot_pos_[a.si], vj = slot_pos_[a.sj];
+      if (vi >= 0 && vj >= 0) {
+        trip.emplace_back(vi, vj, 1);
+        trip.emplace_back(vj, vi, 1);
+      }
+    }
+    Eigen::SparseMatrix<int, Eigen::ColMajor, int> pattern(n_, n_);
+    pattern.setFromTriplets(trip.begin(), trip.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
+    Eigen::AMDOrdering<int> amd;
+    amd(pattern, perm);  // perm.indices()[new] = old
+    pos_slot_.resize(static_cast<std::size_t>(n_));
+    for (int p = 0; p < n_; ++p) {
+      const int old_var = perm.indices()[p];
+      pos_slot_[p] = var_slot[old_var];
+      slot_pos_[var_slot[old_var]] = p;
+    }
+  }
+  build_structure();
+  return true;
+}
+
+template <class PoseT>
+void Engine<PoseT>::build_structure() {
+  // Off-diagonal blocks (row position < column position), per column.
+  std::vector<std::vector<int>> rows(static_cast<std::size_t>(n_));
+  for (const auto& a : edges_) {
+    const int pi = slot_pos_[a.si], pj = slot_pos_[a.sj];
+    if (pi < 0 || pj < 0) continue;
+    rows[std::max(pi, pj)].push_back(std::min(pi, pj));
+  }
+  std::vector<int> block_start(static_cast<std::size_t>(n_) + 1, 0);
+  for (int c = 0; c < n_; ++c) {
+    auto& r = rows[c];
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+    block_start[c + 1] = block_start[c] + static_cast<int>(r.size());
+  }
+  const int nblocks = block_start[n_];
+  const int N = n_ * D;
+  // Column pointers of the scalar upper triangle.
+  std::vector<int> colptr(static_cast<std::size_t>(N) + 1, 0);
+  for (int c = 0; c < n_; ++c) {
+    const int off = static_cast<int>(rows[c].size()) * D;
+    for (int k = 0; k < D; ++k) colptr[c * D + k + 1] = colptr[c * D + k] + off + k + 1;
+  }
+  const int nnz = colptr[N];
+  H_.resize(N, N);
+  H_.resizeNonZeros(nnz);
+  std::copy(colptr.begin(), colptr.end(), H_.outerIndexPtr());
+  int* inner = H_.innerIndexPtr();
+  block_base_.assign(static_cast<std::size_t>(nblocks) * D, 0);
+  diag_base_.assign(static_cast<std::size_t>(n_) * D, 0);
+  diag_index_.assign(static_cast<std::size_t>(N), 0);
+  for (int c = 0; c < n_; ++c) {
+    for (int k = 0; k < D; ++k) {
+      int at = colptr[c * D + k];
+      for (std::size_t b = 0; b < rows[c].size(); ++b) {
+        block_base_[(block_start[c] + static_cast<int>(b)) * D + k] = at;
+        for (int m = 0; m < D; ++m) inner[at++] = rows[c][b] * D + m;
+      }
+      diag_base_[c * D + k] = at;
+      for (int m = 0; m <= k; ++m) inner[at++] = c * D + m;
+      diag_index_[c * D + k] = at - 1;
+    }
+  }
+  std::fill(H_.valuePtr(), H_.valuePtr() + nnz, 0.0);
+  for (auto& a : edges_) {
+    const int pi = slot_pos_[a.si], pj = slot_pos_[a.sj];
+    if (pi < 0 || pj < 0) continue;
+    const int c = std::max(pi, pj), r = std::min(pi, pj);
+    const auto it = std::lower_bound(rows[c].begin(), rows[c].end(), r);
+    a.block = block_start[c] + static_cast<int>(it - rows[c].begin());
+    a.transposed = pj < pi;
+  }
+  diag_.assign(static_cast<std::size_t>(N), 0.0);
+  g_.resize(N);
+}
+
+template <class PoseT>
+void Engine<PoseT>::linearize_edges(const std::vector<PoseT>& poses, bool jacobians) {
+  lin_.resize(edges_.size());
+  parallel_for(options_.num_threads, edges_.size(), [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k) {
+      const Active& a = edges_[k];
+      const auto& edge = *edge_ptr_[k];
+      Linear& l = lin_[k];
+      l.e = edge_error(poses[a.si], poses[a.sj], edge.measurement, jacobians ? &l.Ji : nullptr,
+                       jacobians ? &l.Jj : nullptr);
+      l.s = l.e.dot(edge.information * l.e);
+      if (std::isfinite(l.s) && l.s >= 0.0) {
+        const KernelValues kv = a.kernel.evaluate(l.s);
+        l.rho = kv.rho;
+        l.w = kv.d1;
+      } else {
+        l.rho = std::numeric_limits<double>::quiet_NaN();
+        l.w = 0.0;
+      }
+    }
+  });
+}
+
+template <class PoseT>
+double Engine<PoseT>::chi2_at(const std::vector<PoseT>& poses) {
+  term_.resize(edges_.size());
+  parallel_for(options_.num_threads, edges_.size(), [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k) {
+      const Active& a = edges_[k];
+      const auto& edge = *edge_ptr_[k];
+      const Vec err = edge_error(poses[a.si], poses[a.sj], edge.measurement);
+      const double s = err.dot(edge.information * err);
+      term_[k] = (std::isfinite(s) && s >= 0.0) ? a.kernel.rho(s)
+                                                : std::numeric_limits<double>::quiet_NaN();
+    }
+  });
+  double sum = 0.0;
+  for (double t : term_) sum += t;
+  return sum;
+}
+
+template <class PoseT>
+bool Engine<PoseT>::check_edges_finite(GraphOptimizerResult& result) {
+  bool ok = true;
+  for (std::size_t k = 0; k < edges_.size(); ++k) {
+    const Linear& l = lin_[k];
+    const auto& edge = *edge_ptr_[k];
+    const bool fe = l.e.allFinite() && std::isfinite(l.s);
+    const bool fj = l.Ji.allFinite() && l.Jj.allFinite();
+    if (fe && fj) continue;
+    ok = false;
+    if (result.issues.size() >= 50) continue;
+    result.issues.push_back(
+        {fe ? GraphIssue::Kind::NonFiniteJacobian : GraphIssue::Kind::NonFiniteResidual,
+         edges_[k].index, edge.from,
+         fmt::format("edge {} ({} -> {}): {} is not finite", edges_[k].index, edge.from, edge.to,
+                     fe ? "Jacobian" : "residual")});
+  }
+  return ok;
+}
+
+template <class PoseT>
+bool Engine<PoseT>::assemble(GraphOptimizerResult& result) {
+  if (!check_edges_finite(result)) return false;
+  double* val = H_.valuePtr();
+  std::fill(val, val + H_.nonZeros(), 0.0);
+  g_.setZero();
+  chi2_ = 0.0;
+  for (std::size_t k = 0; k < edges_.size(); ++k) {
+    const Active& a = edges_[k];
+    const Linear& l = lin_[k];
+    chi2_ += l.rho;
+    if (l.w == 0.0) continue;
+    const Mat W = l.w * edge_ptr_[k]->information;
+    const int pi = slot_pos_[a.si], pj = slot_pos_[a.sj];
+    const Vec We = W * l.e;
+    const Mat WJi = W * l.Ji;
+    const Mat WJj = W * l.Jj;
+    auto add_diag = [&](int p, const Mat& J, const Mat& WJ) {
+      const Mat B = J.transpose() * WJ;
+      for (int c = 0; c < D; ++c) {
+        double* col = val + diag_base_[p * D + c];
+        for (int r = 0; r <= c; ++r) col[r] += B(r, c);
+      }
+      g_.template segment<D>(p * D).noalias() += J.transpose() * We;
+    };
+    if (pi >= 0) add_diag(pi, l.Ji, WJi);
+    if (pj >= 0) add_diag(pj, l.Jj, WJj);
+    if (a.block >= 0) {
+      // Block (min pos, max pos): Jiᵀ W Jj, or its transpose.
+      const Mat B = a.transposed ? Mat(l.Jj.transpose() * WJi) : Mat(l.Ji.transpose() * WJj);
+      const int* base = &block_base_[static_cast<std::size_t>(a.block) * D];
+      for (int c = 0; c < D; ++c) {
+        double* col = val + base[c];
+        for (int r = 0; r < D; ++r) col[r] += B(r, c);
+      }
+    }
+  }
+  for (std::size_t s = 0; s < diag_.size(); ++s) diag_[s] = val[diag_index_[s]];
+  return true;
+}
+
+template <class PoseT>
+bool Engine<PoseT>::factorize_damped(double lambda) {
+  double* val = H_.valuePtr();
+  for (std::size_t s = 0; s < diag_.size(); ++s) {
+    val[diag_index_[s]] = diag_[s] + lambda * std::clamp(diag_[s], 1e-6, 1e32);
+  }
+  const auto failed = solver_.factorize(H_);
+  for (std::size_t s = 0; s < diag_.size(); ++s) val[diag_index_[s]] = diag_[s];
+  last_failure_column_ = failed;
+  return !failed.has_value();
+}
+
+template <class PoseT>
+void Engine<PoseT>::diagnose_factorization(std::optional<long> column,
+                                           GraphOptimizerResult& result) {
+  // Vertices whose own block of JᵀWJ is singular.
+  const double* val = H_.valuePtr();
+  for (int p = 0; p < n_ && result.issues.size() < 50; ++p) {
+    Mat B;
+    for (int c = 0; c < D; ++c)
+      for (int r = 0; r <= c; ++r) B(r, c) = B(c, r) = val[diag_base_[p * D + c] + r];
+    Eigen::LLT<Mat> llt(B);
+    Eigen::SelfAdjointEigenSolver<Mat> eig(B);
+    const double lo = eig.eigenvalues()(0), hi = eig.eigenvalues()(D - 1);
+    if (llt.info() != Eigen::Success || !(lo > 1e-12 * std::max(hi, 1e-300))) {
+      const VertexId id = slot_id_[pos_slot_[p]];
+      result.issues.push_back({GraphIssue::Kind::RankDeficientBlock, static_cast<std::size_t>(-1),
+                               id,
+                               fmt::format("vertex {}: its block of the normal equations is rank "
+                                           "deficient (eigenvalues {} .. {})",
+                                           id, lo, hi)});
+    }
+  }
+  if (result.issues.empty() && column && *column >= 0 && *column < static_cast<long>(D) * n_) {
+    const VertexId id = slot_id_[pos_slot_[static_cast<std::size_t>(*column / D)]];
+    result.issues.push_back({GraphIssue::Kind::NotPositiveDefinite, static_cast<std::size_t>(-1),
+                             id,
+                             fmt::format("the normal equations are not positive definite: the "
+                                         "factorization broke down at vertex {} (component {})",
+                                         id, *column % D)});
+  }
+}
+
+template <class PoseT>
+void Engine<PoseT>::apply_step(const Eigen::VectorXd& delta, std::vector<PoseT>& out) const {
+  out = poses_;
+  for (int p = 0; p < n_; ++p) {
+    const int s = pos_slot_[p];
+    out[s] = poses_[s] * PoseT::exp(delta.template segment<D>(p * D));
+  }
+}
+
+template <class PoseT>
+Eigen::VectorXd Engine<PoseT>::multiply_h(const Eigen::VectorXd& x) const {
+  // H holds the upper triangle with the undamped diagonal.
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
+  const int* outer = H_.outerIndexPtr();
+  const int* inner = H_.innerIndexPtr();
+  const double* val = H_.valuePtr();
+  for (int c = 0; c < H_.cols(); ++c) {
+    for (int k = outer[c]; k < outer[c + 1]; ++k) {
+      const int r = inner[k];
+      y[r] += val[k] * x[c];
+      if (r != c) y[c] += val[k] * x[r];
+    }
+  }
+  return y;
+}
+
+template <class PoseT>
+double Engine<PoseT>::translation_norm() const {
+  double sq = 0.0;
+  for (int p = 0; p < n_; ++p) sq += poses_[pos_slot_[p]].translation().squaredNorm();
+  return std::sqrt(sq);
+}
+
+template <class PoseT>
+void Engine<PoseT>::write_back() {
+  for (int p = 0; p < n_; ++p) {
+    const int s = pos_slot_[p];
+    graph_.set_pose(slot_id_[s], poses_[s]);
+  }
+}
+
+template <class PoseT>
+GraphOptimizerResult Engine<PoseT>::run() {
+  GraphOptimizerResult result;
+  Stopwatch total;
+  Stopwatch phase;
+  result.linear_solver = solver_.type();
+  if (!setup(result)) {
+    result.timing.setup = phase.lap();
+    result.timing.total = total.elapsed();
+    return result;
+  }
+  if (n_ > 0) solver_.analyze(H_);
+  result.hessian_nonzeros = static_cast<std::size_t>(H_.nonZeros());
+  result.timing.setup = phase.lap();
+
+  linearize_edges(poses_, true);
+  if (!assemble(result)) {
+    result.timing.linearize = phase.lap();
+    result.termination = GraphTermination::NumericalFailure;
+    result.message = fmt::format("{} edges have a non-finite residual or Jacobian at the initial "
+                                 "guess (first: {})",
+                                 result.issues.size(), result.issues.front().message);
+    result.timing.total = total.elapsed();
+    return result;
+  }
+  result.timing.linearize += phase.lap();
+  result.initial_chi2 = result.final_chi2 = chi2_;
+  if (n_ == 0) {
+    result.termination = GraphTermination::Converged;
+    result.message = "nothing to optimize: every vertex touched by the edges is fixed";
+    result.timing.total = total.elapsed();
+    return result;
+  }
+
+  const GraphSolver method = options_.solver;
+  double lambda = options_.initial_lambda;
+  double nu = 2.0;
+  double radius = options_.initial_trust_radius;
+  Eigen::VectorXd delta, gn_step, sd_step;
+  bool have_gn = false;
+  std::vector<PoseT> trial;
+  result.termination = GraphTermination::MaxIterations;
+  result.message = fmt::format("reached the maximum of {} iterations", options_.max_iterations);
+
+  for (int it = 1; it <= options_.max_iterations; ++it) {
+    const double gmax = g_.cwiseAbs().maxCoeff();
+    if (gmax <= options_.gradient_tolerance) {
+      result.termination = GraphTermination::Converged;
+      result.message = fmt::format("gradient tolerance: max |g| = {:.3g} <= {:.3g}", gmax,
+                                   options_.gradient_tolerance);
+      break;
+    }
+    GraphIteration rec;
+    rec.iteration = it;
+    result.iterations = it;
+    double predicted = 0.0;
+
+    if (method == GraphSolver::LevenbergMarquardt) {
+      rec.damping = lambda;
+      const bool ok = factorize_damped(lambda);
+      if (ok) solver_.solve(-g_, delta);
+      result.timing.factorize += phase.lap();
+      if (!ok || !delta.allFinite()) {
+        lambda *= nu;
+        nu *= 2.0;
+        rec.chi2 = chi2_;
+        result.history.push_back(rec);
+        if (lambda > 1e32) {
+          result.termination = GraphTermination::NumericalFailure;
+          result.message = "the damped normal equations stay singular even at λ = 1e32";
+          diagnose_factorization(last_failure_column_, result);
+          break;
+        }
+        continue;
+      }
+      Eigen::VectorXd Dd(delta.size());
+      for (Eigen::Index s = 0; s < delta.size(); ++s)
+        Dd[s] = lambda * std::clamp(diag_[static_cast<std::size_t>(s)], 1e-6, 1e32) * delta[s];
+      predicted = delta.dot(Dd - g_);
+    } else if (method == GraphSolver::GaussNewton) {
+      const bool ok = factorize_damped(0.0);
+      if (ok) solver_.solve(-g_, delta);
+      result.timing.factorize += phase.lap();
+      if (!ok || !delta.allFinite()) {
+        result.termination = GraphTermination::NumericalFailure;
+        result.message = "the normal equations are singular (Gauss-Newton has no damping)";
+        diagnose_factorization(last_failure_column_, result);
+        if (!result.issues.empty()) result.message += ": " + result.issues.front().message;
+        rec.chi2 = chi2_;
+        result.history.push_back(rec);
+        break;
+      }
+      predicted = -delta.dot(g_);  // model decrease −(2gᵀδ + δᵀHδ) with Hδ = −g
+    } else {
+      if (!have_gn) {
+        bool ok = factorize_damped(0.0);
+        for (double mu = 1e-10; !ok && mu <= 1e-2; mu *= 100.0) ok = factorize_damped(mu);
+        if (ok) solver_.solve(-g_, gn_step);
+        if (!ok || !gn_step.allFinite()) {
+          result.timing.factorize += phase.lap();
+          result.termination = GraphTermination::NumericalFailure;
+          result.message = "the normal equations are singular";
+          diagnose_factorization(last_failure_column_, result);
+          if (!result.issues.empty()) result.message += ": " + result.issues.front().message;
+          break;
+        }
+        const Eigen::VectorXd Hg = multiply_h(g_);
+        const double gHg = g_.dot(Hg);
+        const double alpha = gHg > 0.0 ? g_.squaredNorm() / gHg : 0.0;
+        sd_step = -alpha * g_;
+        have_gn = true;
+        result.timing.factorize += phase.lap();
+      }
+      rec.damping = radius;
+      const double gn_norm = gn_step.norm();
+      if (gn_norm <= radius) {
+        delta = gn_step;
+      } else if (sd_step.norm() >= radius) {
+        delta = -(radius / g_.norm()) * g_;
+      } else {
+        const Eigen::VectorXd d = gn_step - sd_step;
+        const double c = sd_step.dot(d), dd = d.squaredNorm();
+        const double beta =
+            (-c + std::sqrt(c * c + dd * (radius * radius - sd_step.squaredNorm()))) / dd;
+        delta = sd_step + beta * d;
+      }
+      const Eigen::VectorXd Hd = multiply_h(delta);
+      predicted = -(2.0 * g_.dot(delta) + delta.dot(Hd));
+      result.timing.factorize += phase.lap();
+    }
+
+    rec.step_norm = delta.norm();
+    const double x_norm = translation_norm();
+    if (rec.step_norm <= options_.step_tolerance * (x_norm + options_.step_tolerance)) {
+      rec.chi2 = chi2_;
+      result.history.push_back(rec);
+      result.termination = GraphTermination::Converged;
+      result.message = fmt::format("step tolerance: |step| = {:.3g}", rec.step_norm);
+      break;
+    }
+    apply_step(delta, trial);
+    const double new_chi2 = chi2_at(trial);
+    result.timing.evaluate += phase.lap();
+    const double actual = chi2_ - new_chi2;
+    rec.chi2 = new_chi2;
+    rec.gain_ratio = predicted > 0.0 ? actual / predicted : 0.0;
+    const bool finite = std::isfinite(new_chi2);
+    const bool accept = finite && (method == GraphSolver::GaussNewton || new_chi2 < chi2_);
+    rec.accepted = accept;
+    result.history.push_back(rec);
+
+    if (!accept) {
+      if (method == GraphSolver::GaussNewton) {
+        result.termination = GraphTermination::NumericalFailure;
+        result.message = "the Gauss-Newton step gave a non-finite χ²";
+        break;
+      }
+      if (method == GraphSolver::LevenbergMarquardt) {
+        lambda *= nu;
+        nu *= 2.0;
+        if (lambda > 1e32) {
+          result.termination = GraphTermination::NoProgress;
+          result.message = "no decrease of χ² even at λ = 1e32";
+          break;
+        }
+      } else {
+        radius = 0.5 * std::min(radius, rec.step_norm);
+        if (radius <= options_.step_tolerance * (x_norm + options_.step_tolerance)) {
+          result.termination = GraphTermination::NoProgress;
+          result.message = fmt::format("trust region shrank to {:.3g} without a decrease of χ²",
+                                       radius);
+          break;
+        }
+      }
+      continue;
+    }
+
+    // Accepted step.
+    ++result.accepted_steps;
+    const double old_chi2 = chi2_;
+    poses_.swap(trial);
+    if (method == GraphSolver::LevenbergMarquardt) {
+      const double r = 2.0 * rec.gain_ratio - 1.0;
+      lambda *= std::max(1.0 / 3.0, 1.0 - r * r * r);
+      lambda = std::max(lambda, 1e-30);
+      nu = 2.0;
+    } else if (method == GraphSolver::DogLeg) {
+      if (rec.gain_ratio > 0.75) {
+        radius = std::max(radius, 3.0 * rec.step_norm);
+      } else if (rec.gain_ratio < 0.25) {
+        radius = 0.5 * std::min(radius, rec.step_norm);
+      }
+      have_gn = false;
+    }
+    linearize_edges(poses_, true);
+    if (!assemble(result)) {
+      result.timing.linearize += phase.lap();
+      result.termination = GraphTermination::NumericalFailure;
+      result.message = fmt::format("edges became non-finite during the optimization (first: {})",
+                                   result.issues.front().message);
+      break;
+    }
+    result.timing.linearize += phase.lap();
+    if (std::abs(old_chi2 - chi2_) <= options_.function_tolerance * old_chi2) {
+      result.termination = GraphTermination::Converged;
+      result.message = fmt::format("function tolerance: relative decrease {:.3g} <= {:.3g}",
+                                   std::abs(old_chi2 - chi2_) / std::max(old_chi2, 1e-300),
+                                   options_.function_tolerance);
+      break;
+    }
+  }
+  result.final_chi2 = chi2_;
+  write_back();
+  result.factor_nonzeros = solver_.factor_nonzeros();
+  result.timing.total = total.elapsed();
+  return result;
+}
+
+template <class PoseT>
+GraphOptimizerResult optimize_impl(PoseGraph<PoseT>& graph, const GraphOptimizerOptions& options) {
+  ROVE_CHECK_GE(options.max_iterations, 0);
+  ROVE_CHECK_GE(options.num_threads, 1);
+  ROVE_CHECK_MSG(options.function_tolerance >= 0.0 && options.gradient_tolerance >= 0.0 &&
+                     options.step_tolerance >= 0.0,
+                 "tolerances must be >= 0");
+  ROVE_CHECK_MSG(std::isfinite(options.initial_lambda) && options.initial_lambda > 0.0,
+                 "initial_lambda must be finite and > 0, got {}", options.initial_lambda);
+  ROVE_CHECK_MSG(std::isfinite(options.initial_trust_radius) && options.initial_trust_radius > 0.0,
+                 "initial_trust_radius must be finite and > 0, got {}",
+                 options.initial_trust_radius);
+  Engine<PoseT> engine(graph, options);
+  return engine.run();
+}
+
+template <class PoseT>
+double chi2_impl(const PoseGraph<PoseT>& graph, int level,
+                 const std::optional<RobustKernel>& robust_kernel) {
+  double sum = 0.0;
+  for (const auto& e : graph.edges()) {
+    if (e.level != level) continue;
+    const auto err = edge_error(graph.pose(e.from), graph.pose(e.to), e.measurement);
+    const double s = err.dot(e.information * err);
+    if (!(std::isfinite(s) && s >= 0.0)) return std::numeric_limits<double>::quiet_NaN();
+    sum += (robust_kernel ? *robust_kernel : e.kernel).rho(s);
+  }
+  return sum;
+}
+
+}  // namespace
+
+GraphOptimizerResult optimize(PoseGraph2D& graph, const GraphOptimizerOptions& options) {
+  return optimize_impl(graph, options);
+}
+GraphOptimizerResult optimize(PoseGraph3D& graph, const GraphOptimizerOptions& options) {
+  return optimize_impl(graph, options);
+}
+
+double compute_chi2(const PoseGraph2D& graph, int level,
+                    const std::optional<RobustKernel>& robust_kernel) {
+  return chi2_impl(graph, level, robust_kernel);
+}
+double compute_chi2(const PoseGraph3D& graph, int level,
+                    const std::optional<RobustKernel>& robust_kernel) {
+  return chi2_impl(graph, level, robust_kernel);
+}
+
+bool cholmod_available() noexcept { return detail::cholmod_built(); }
+
+std::string_view to_string(GraphSolver solver) {
+  switch (solver) {
+    case GraphSolver::GaussNewton: return "gn";
+    case GraphSolver::LevenbergMarquardt: return "lm";
+    case GraphSolver::DogLeg: return "dogleg";
+  }
+  return "?";
+}
+
+GraphSolver parse_graph_solver(std::string_view text) {
+  if (text == "gn" || text == "gauss-newton") return GraphSolver::GaussNewton;
+  if (text == "lm" || text == "levenberg-marquardt" || text == "levmarq")
+    return GraphSolver::LevenbergMarquardt;
+  if (text == "dogleg" || text == "dog-leg") return GraphSolver::DogLeg;
+  ROVE_CHECK_MSG(false, "unknown solver '{}' (expected gn, lm or dogleg)", text);
+  return GraphSolver::LevenbergMarquardt;
+}
+
+std::string_view to_string(GraphTermination termination) {
+  switch (termination) {
+    case GraphTermination::Converged: return "converged";
+    case GraphTermination::MaxIterations: return "max-iterations";
+    case GraphTermination::NoProgress: return "no-progress";
+    case GraphTermination::InvalidInput: return "invalid-input";
+    case GraphTermination::NumericalFailure: return "numerical-failure";
+  }
+  return "?";
+}
+
+std::string_view to_string(LinearSolverType type) {
+  switch (type) {
+    case LinearSolverType::Auto: return "auto";
+    case LinearSolverType::Eigen: return "eigen";
+    case LinearSolverType::Cholmod: return "cholmod";
+  }
+  return "?";
+}
+
+}  // namespace rove

@@ -1,0 +1,44 @@
+#pragma once
+// Sparse Cholesky of a symmetric positive definite matrix stored as its upper
+// triangle (compressed columns, already in the elimination order): Eigen's
+// SimplicialLLT or SuiteSparse CHOLMOD. The pattern is analyzed once; the
+// values are factorized again at every iteration.
+#include <cstddef>
+#include <memory>
+#include <optional>
+
+#include <Eigen/SparseCore>
+
+#include "rove/graph/optimizer.h"
+
+namespace rove::detail {
+
+class SparseCholesky {
+ public:
+  using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+  /// Chooses the back-end (Auto → CHOLMOD when built with it).
+  explicit SparseCholesky(LinearSolverType type);
+  ~SparseCholesky();
+  SparseCholesky(const SparseCholesky&) = delete;
+  SparseCholesky& operator=(const SparseCholesky&) = delete;
+
+  /// Back-end in use.
+  LinearSolverType type() const { return type_; }
+  /// Symbolic analysis of the upper triangle `upper` (natural order).
+  void analyze(const Matrix& upper);
+  /// Numeric factorization. Returns std::nullopt on success, else the column
+  /// where it broke down when the back-end knows it (-1 when it does not).
+  std::optional<long> factorize(const Matrix& upper);
+  /// Solves A x = b with the last successful factorization.
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  /// Stored entries of the factor (after factorize()).
+  std::size_t factor_nonzeros() const;
+
+ private:
+  struct Impl;
+  LinearSolverType type_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rove::detail
