@@ -1,0 +1,571 @@
+#include "rove/maps/grid_insertion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "rove/core/check.h"
+#include "rove/core/error.h"
+#include "rove/poses/angle.h"
+#include "grid_internal.h"
+
+namespace rove {
+namespace {
+
+constexpr int kFrBits = 9;           // fixed-point fraction bits of the ray tracer
+constexpr int kFrOne = 1 << kFrBits;  // 1.0 in fixed point
+
+// The cell updates of MRPT's CLogOddsGridMap2D, saturating at the type's
+// limits. `thres` is kMax − obs (free) or kMin + obs (occupied).
+template <GridCell Cell>
+inline void update_free(Cell* c, int obs, int thres) {
+  *c = static_cast<Cell>(*c < thres ? *c + obs : LogOddsTraits<Cell>::kMax);
+}
+template <GridCell Cell>
+inline void update_occupied(Cell* c, int obs, int thres) {
+  *c = static_cast<Cell>(*c > thres ? *c - obs : LogOddsTraits<Cell>::kMin);
+}
+
+float float_round(float v) { return std::round(v); }
+
+struct LocalPoint {
+  float x = 0, y = 0;
+  int cx = 0, cy = 0;
+};
+
+template <GridCell Cell>
+struct Inserter {
+  OccupancyGridT<Cell>& grid;
+  const RangeScan2D& scan;
+  const GridInsertionOptions& opt;
+  int obs_free = 0, obs_occupied = 0, obs_noecho_free = 0;
+  int thres_free = 0, thres_occupied = 0;
+
+  bool valid(std::size_t i) const {
+    const float r = scan.ranges[i];
+    return scan.valid[i] && std::isfinite(r) && r >= 0.0f;
+  }
+
+  // Free update of a cell given by index, bounds-checked (MRPT has no check;
+  // for every ray MRPT handles, the cells are inside the grown grid).
+  void free_cell(int cx, int cy, int obs) {
+    if (!grid.contains(cx, cy)) return;
+    Cell* c = grid_data + grid.index(cx, cy);
+    update_free(c, obs, thres_free);
+  }
+  void occupied_cell(int cx, int cy) {
+    if (!grid.contains(cx, cy)) return;
+    update_occupied(grid_data + grid.index(cx, cy), obs_occupied, thres_occupied);
+  }
+  Cell* grid_data = nullptr;
+};
+
+}  // namespace
+
+void GridInsertionOptions::load(const IniFile& ini, std::string_view section) {
+  const std::string sec(section);
+  const auto read_float = [&](const char* key, float& v) {
+    if (ini.has(section, key)) v = ini.get<float>(section, key);
+  };
+  const auto read_bool = [&](const char* key, bool& v) {
+    if (ini.has(section, key)) v = ini.get<bool>(section, key);
+  };
+  read_float("mapAltitude", map_altitude);
+  read_float("maxDistanceInsertion", max_distance_insertion);
+  read_float("maxOccupancyUpdateCertainty", max_occupancy_update_certainty);
+  read_float("maxFreenessUpdateCertainty", max_freeness_update_certainty);
+  read_float("maxFreenessInvalidRanges", max_freeness_invalid_ranges);
+  read_bool("useMapAltitude", use_map_altitude);
+  read_bool("considerInvalidRangesAsFreeSpace", consider_invalid_ranges_as_free_space);
+  if (ini.has(section, "decimation")) {
+    const int d = ini.get<int>(section, "decimation");
+    if (d < 1 || d > 65535) {
+      throw ConfigError(ini.source(), sec, "decimation", "must be in [1, 65535]");
+    }
+    decimation = static_cast<std::uint16_t>(d);
+  }
+  if (ini.has(section, "horizontalTolerance")) {
+    const float deg = ini.get<float>(section, "horizontalTolerance");
+    horizontal_tolerance = static_cast<float>(deg * (kPi / 180.0));
+  }
+  read_float("CFD_features_gaussian_size", cfd_features_gaussian_size);
+  read_float("CFD_features_median_size", cfd_features_median_size);
+  read_bool("wideningBeamsWithDistance", widening_beams_with_distance);
+  try {
+    check();
+  } catch (const InvalidArgument& e) {
+    throw ConfigError(ini.source(), sec, "", e.message());
+  }
+}
+
+void GridInsertionOptions::check() const {
+  ROVE_CHECK_FINITE(map_altitude);
+  ROVE_CHECK_FINITE(max_distance_insertion);
+  ROVE_CHECK_GT(max_distance_insertion, 0.0f);
+  ROVE_CHECK_MSG(max_occupancy_update_certainty >= 0.0f && max_occupancy_update_certainty <= 1.0f,
+                 "maxOccupancyUpdateCertainty = {} is outside [0, 1]",
+                 max_occupancy_update_certainty);
+  ROVE_CHECK_MSG(max_freeness_update_certainty >= 0.0f && max_freeness_update_certainty <= 1.0f,
+                 "maxFreenessUpdateCertainty = {} is outside [0, 1]",
+                 max_freeness_update_certainty);
+  ROVE_CHECK_MSG(max_freeness_invalid_ranges >= 0.0f && max_freeness_invalid_ranges <= 1.0f,
+                 "maxFreenessInvalidRanges = {} is outside [0, 1]", max_freeness_invalid_ranges);
+  ROVE_CHECK_GE(decimation, 1);
+  ROVE_CHECK_FINITE(horizontal_tolerance);
+  ROVE_CHECK_GE(horizontal_tolerance, 0.0f);
+  ROVE_CHECK_FINITE(cfd_features_gaussian_size);
+  ROVE_CHECK_FINITE(cfd_features_median_size);
+}
+
+bool is_horizontal(const Pose3& T_robot_sensor, double tolerance) {
+  const auto ypr = T_robot_sensor.yaw_pitch_roll();
+  return (std::fabs(ypr.pitch) <= tolerance || kPi - std::fabs(ypr.pitch) <= tolerance) &&
+         (std::fabs(ypr.roll) <= tolerance || std::fabs(wrap_to_pi(ypr.roll - kPi)) <= tolerance);
+}
+
+namespace {
+
+template <GridCell Cell>
+GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan,
+                             const Pose3& T_map_robot, const GridInsertionOptions& opt,
+                             bool mrpt_wrap) {
+  scan.check();
+  opt.check();
+  using Traits = LogOddsTraits<Cell>;
+  const auto& lut = LogOddsLut<Cell>::instance();
+  GridInsertResult result;
+
+  const Pose3 T_map_sensor = T_map_robot + scan.T_robot_sensor;
+  if (!is_horizontal(scan.T_robot_sensor, opt.horizontal_tolerance)) {
+    result.status = GridInsertStatus::kNotHorizontal;
+    result.message = "the scan is not horizontal within horizontalTolerance";
+    return result;
+  }
+  if (opt.use_map_altitude && std::fabs(opt.map_altitude - T_map_sensor.z()) > 0.001) {
+    result.status = GridInsertStatus::kWrongAltitude;
+    result.message = "the sensor is not at mapAltitude";
+    return result;
+  }
+  result.message = "inserted";
+
+  // Update strengths as MRPT: the occupied update counts three times.
+  const float max_certainty = opt.max_occupancy_update_certainty;
+  const float max_free =
+      opt.max_freeness_update_certainty == 0.0f ? max_certainty : opt.max_freeness_update_certainty;
+  const float max_noecho =
+      opt.max_freeness_invalid_ranges == 0.0f ? max_certainty : opt.max_freeness_invalid_ranges;
+  Inserter<Cell> ins{grid, scan, opt};
+  ins.obs_free = std::max<int>(1, lut.p2l(max_free));
+  // MRPT computes 3·L in the cell type, which overflows int8 above p ≈ 0.9;
+  // rove saturates at the type's maximum instead.
+  ins.obs_occupied = std::min(Traits::kMax, 3 * std::max<int>(1, lut.p2l(max_certainty)));
+  ins.obs_noecho_free = std::max<int>(1, lut.p2l(max_noecho));
+  ins.thres_occupied = Traits::kMin + ins.obs_occupied;
+  if (mrpt_wrap) {
+    // MRPT's arithmetic in the cell type (wraps around for int8).
+    ins.obs_occupied = static_cast<Cell>(3 * std::max<int>(1, lut.p2l(max_certainty)));
+    ins.thres_occupied = static_cast<Cell>(Traits::kMin + ins.obs_occupied);
+  }
+  ins.thres_free = Traits::kMax - std::max(ins.obs_noecho_free, ins.obs_free);
+
+  const bool sensor_upside_down = T_map_sensor.rotation()(2, 2) < 0;
+  const auto n_rays = static_cast<int>(scan.size());
+  const int step = opt.decimation;
+  const float aperture = static_cast<float>(scan.aperture);
+  const double sensor_yaw = T_map_sensor.yaw();
+  const float px = static_cast<float>(T_map_sensor.x());
+  const float py = static_cast<float>(T_map_sensor.y());
+  const float max_dist = opt.max_distance_insertion;
+  const bool invalid_as_free = opt.consider_invalid_ranges_as_free_space;
+  const bool ccw = scan.right_to_left != sensor_upside_down;
+  const float d_angle = ccw ? static_cast<float>(step) * aperture / static_cast<float>(n_rays)
+                            : -static_cast<float>(step) * aperture / static_cast<float>(n_rays);
+  // Start angle: MRPT rounds differently in its two branches.
+  float angle0;
+  if (!opt.widening_beams_with_distance) {
+    angle0 = static_cast<float>(ccw ? sensor_yaw - 0.5f * aperture : sensor_yaw + 0.5f * aperture);
+  } else {
+    angle0 = ccw ? static_cast<float>(sensor_yaw) - 0.5f * aperture
+                 : static_cast<float>(sensor_yaw) + 0.5f * aperture;
+  }
+
+  // 1) End points (meters) and the bounding box to grow the grid to.
+  std::vector<float> end_x(scan.size()), end_y(scan.size());
+  float bx_max = -std::numeric_limits<float>::max(), bx_min = std::numeric_limits<float>::max();
+  float by_max = -std::numeric_limits<float>::max(), by_min = std::numeric_limits<float>::max();
+  {
+    float a = angle0;
+    float last_valid_range = max_dist;
+    for (int i = 0; i < n_rays; i += step) {
+      float ex = px, ey = py;
+      if (ins.valid(static_cast<std::size_t>(i))) {
+        const float r = scan.ranges[static_cast<std::size_t>(i)];
+        const float rr = std::min(max_dist, r);
+        ex = px + std::cos(a) * rr;
+        ey = py + std::sin(a) * rr;
+        last_valid_range = r;
+      } else if (invalid_as_free) {
+        const float rr = std::min(max_dist, 0.5f * last_valid_range);
+        ex = px + std::cos(a) * rr;
+        ey = py + std::sin(a) * rr;
+      }
+      end_x[static_cast<std::size_t>(i)] = ex;
+      end_y[static_cast<std::size_t>(i)] = ey;
+      a += d_angle;
+      bx_max = std::max(bx_max, ex);
+      bx_min = std::min(bx_min, ex);
+      by_max = std::max(by_max, ey);
+      by_min = std::min(by_min, ey);
+    }
+  }
+  {
+    const float margin = 15.0f * grid.resolution();
+    bx_max = bx_max > grid.x_max() - margin ? bx_max + 2 * margin : grid.x_max();
+    bx_min = bx_min < grid.x_min() + margin ? bx_min - 2 : grid.x_min();
+    by_max = by_max > grid.y_max() - margin ? by_max + 2 * margin : grid.y_max();
+    by_min = by_min < grid.y_min() + margin ? by_min - 2 : grid.y_min();
+    grid.resize(bx_min, bx_max, by_min, by_max, 0.5f, true);
+  }
+  ins.grid_data = grid.mutable_cells().data();
+  grid.set_empty(false);
+
+  if (!opt.widening_beams_with_distance) {
+    // 2a) Thin rays: fixed-point DDA from the sensor cell to the end cell.
+    const int cx0 = grid.x_to_idx(px);
+    const int cy0 = grid.y_to_idx(py);
+    for (int i = 0; i < n_rays; i += step) {
+      const auto si = static_cast<std::size_t>(i);
+      const bool ok = ins.valid(si);
+      if (!ok && !invalid_as_free) continue;
+      const int trg_cx = grid.x_to_idx(end_x[si]);
+      const int trg_cy = grid.y_to_idx(end_y[si]);
+      ROVE_CHECK(grid.contains(trg_cx, trg_cy));
+      const int dx = trg_cx - cx0, dy = trg_cy - cy0;
+      const int adx = std::abs(dx), ady = std::abs(dy);
+      const int n_steps = std::max(adx, ady);
+      if (n_steps == 0) continue;
+      const float inv_n = 1.0f / static_cast<float>(n_steps);
+      const int fr_dx = static_cast<int>((dx < 0 ? -1.0f : 1.0f) *
+                                         float_round(static_cast<float>(adx * kFrOne) * inv_n));
+      const int fr_dy = static_cast<int>((dy < 0 ? -1.0f : 1.0f) *
+                                         float_round(static_cast<float>(ady * kFrOne) * inv_n));
+      int fx = cx0 * kFrOne, fy = cy0 * kFrOne;
+      int cx = cx0, cy = cy0;
+      const int obs = ok ? ins.obs_free : ins.obs_noecho_free;
+      for (int s = 0; s < n_steps; ++s) {
+        ins.free_cell(cx, cy, obs);
+        fx += fr_dx;
+        fy += fr_dy;
+        cx = fx >> kFrBits;
+        cy = fy >> kFrBits;
+      }
+      if (ok && scan.ranges[si] < max_dist) ins.occupied_cell(trg_cx, trg_cy);
+      ++result.rays_inserted;
+    }
+    return result;
+  }
+
+  // 2b) Widening beams: fill the triangle sensor–(range − 1 cell) of each
+  // beam as free, then the arc at the range as occupied.
+  const float res = grid.resolution();
+  const float half_beam = 0.5f * aperture / static_cast<float>(n_rays);
+  float a = angle0;
+  float last_valid_range = max_dist;
+  const auto row_free = [&](int y, int x_from, int x_to) {
+    if (y < 0 || static_cast<unsigned>(y) >= grid.size_y()) return;
+    x_from = std::max(x_from, 0);
+    x_to = std::min(x_to, static_cast<int>(grid.size_x()) - 1);
+    for (int x = x_from; x <= x_to; ++x) ins.free_cell(x, y, ins.obs_free);
+  };
+  const auto fr_round = [](int d, float inv_n) {
+    return static_cast<int>(float_round(static_cast<float>(d * kFrOne) * inv_n));
+  };
+  for (int i = 0; i < n_rays; i += step, a += d_angle) {
+    const auto si = static_cast<std::size_t>(i);
+    float r;
+    if (ins.valid(si)) {
+      last_valid_range = scan.ranges[si];
+      r = std::min(max_dist, scan.ranges[si]);
+    } else if (invalid_as_free) {
+      r = std::min(max_dist, 0.5f * last_valid_range);
+    } else {
+      continue;
+    }
+    if (r < res) continue;
+    r -= res;
+    ++result.rays_inserted;
+    LocalPoint p0, p1, p2, p1b;
+    p0.x = px;
+    p0.y = py;
+    p1.x = px + std::cos(a - half_beam) * r;
+    p1.y = py + std::sin(a - half_beam) * r;
+    p2.x = px + std::cos(a + half_beam) * r;
+    p2.y = py + std::sin(a + half_beam) * r;
+    if (p2.y < p1.y) std::swap(p2, p1);
+    if (p2.y < p0.y) std::swap(p2, p0);
+    if (p1.y < p0.y) std::swap(p1, p0);
+    for (LocalPoint* p : {&p0, &p1, &p2}) {
+      p->cx = grid.x_to_idx(p->x);
+      p->cy = grid.y_to_idx(p->y);
+    }
+    if (p0.cy == p2.cy && p0.cy == p1.cy) {
+      row_free(p0.cy, std::min({p0.cx, p1.cx, p2.cx}), std::max({p0.cx, p1.cx, p2.cx}));
+    } else {
+      // P1b: the point of edge P0–P2 at the height of P1.
+      p1b.y = p1.y;
+      p1b.x = p0.x + (p1.y - p0.y) * (p2.x - p0.x) / (p2.y - p0.y);
+      p1b.cx = grid.x_to_idx(p1b.x);
+      p1b.cy = grid.y_to_idx(p1b.y);
+      struct Edge {
+        int fx = 0, fy = 0, cx = 0, cy = 0;
+      } e1, e2;
+      // Lower sub-triangle P0–P1–P1b, scanned row by row between two edges.
+      {
+        const int dx01 = p1.cx - p0.cx, dy01 = p1.cy - p0.cy, dx01b = p1b.cx - p0.cx;
+        const float inv_n =
+            1.0f / static_cast<float>(std::max({std::abs(dx01), std::abs(dy01), std::abs(dx01b)}) + 1);
+        const int fr_dx01 = fr_round(dx01, inv_n);
+        int fr_dy01 = fr_round(dy01, inv_n);
+        // MRPT loops forever when this rounds to 0 (beams wider than ~1000
+        // cells); one fixed-point unit keeps the scan finite.
+        if (dy01 > 0 && fr_dy01 == 0) fr_dy01 = 1;
+        const int fr_dx01b = fr_round(dx01b, inv_n);
+        e1.cx = p0.cx;
+        e1.cy = p0.cy;
+        e1.fx = p0.cx * kFrOne;
+        e1.fy = p0.cy * kFrOne;
+        int step_x1 = 0, step_x2 = 0;
+        const int step_y1 = fr_dy01;
+        if (p0.cy != p1.cy) {
+          e2 = e1;
+          if (p1.x < p1b.x) {
+            step_x1 = fr_dx01;
+            step_x2 = fr_dx01b;
+          } else {
+            step_x1 = fr_dx01b;
+            step_x2 = fr_dx01;
+          }
+        } else {
+          e2.cx = p1.cx;
+          e2.cy = p1.cy;
+          e2.fx = p1.cx * kFrOne;
+        }
+        int last_row = -1;
+        do {
+          if (last_row != e1.cy) {
+            last_row = e1.cy;
+            row_free(e1.cy, e1.cx, e2.cx);
+          }
+          e1.fx += step_x1;
+          e1.fy += step_y1;
+          e2.fx += step_x2;
+          e1.cx = e1.fx >> kFrBits;
+          e1.cy = e1.fy >> kFrBits;
+          e2.cx = e2.fx >> kFrBits;
+        } while (e1.cy < p1.cy);
+      }
+      // Upper sub-triangle P1–P1b–P2.
+      {
+        const int dx12 = p2.cx - p1.cx, dy12 = p2.cy - p1.cy, dx1b2 = p2.cx - p1b.cx;
+        const float inv_n =
+            1.0f / static_cast<float>(std::max({std::abs(dx12), std::abs(dy12), std::abs(dx1b2)}) + 1);
+        const int fr_dx12 = fr_round(dx12, inv_n);
+        const int fr_dy12 = fr_round(dy12, inv_n);
+        const int fr_dx1b2 = fr_round(dx1b2, inv_n);
+        // A zero vertical step ends the loop after one row (MRPT).
+        const int step_y1 = fr_dy12 != 0 ? fr_dy12 : 2 * kFrOne;
+        int step_x1, step_x2;
+        if (p1.x < p1b.x) {
+          e1.cx = p1.cx;
+          e1.cy = p1.cy;
+          e2.cx = p1b.cx;
+          e2.cy = p1b.cy;
+          step_x1 = fr_dx12;
+          step_x2 = fr_dx1b2;
+        } else {
+          e1.cx = p1b.cx;
+          e1.cy = p1b.cy;
+          e2.cx = p1.cx;
+          e2.cy = p1.cy;
+          step_x1 = fr_dx1b2;
+          step_x2 = fr_dx12;
+        }
+        e1.fx = e1.cx * kFrOne;
+        e1.fy = e1.cy * kFrOne;
+        e2.fx = e2.cx * kFrOne;
+        e2.fy = e2.cy * kFrOne;
+        int last_row = -100;
+        do {
+          if (last_row != e1.cy) {
+            last_row = e1.cy;
+            row_free(e1.cy, e1.cx, e2.cx);
+          }
+          e1.fx += step_x1;
+          e1.fy += step_y1;
+          e2.fx += step_x2;
+          e1.cx = e1.fx >> kFrBits;
+          e1.cy = e1.fy >> kFrBits;
+          e2.cx = e2.fx >> kFrBits;
+        } while (e1.cy <= p2.cy);
+      }
+    }
+    // Occupied cells along the arc P1–P2 at the measured range, for a valid
+    // ray that was not cut.
+    if (ins.valid(si) && scan.ranges[si] < max_dist) {
+      r += res;
+      LocalPoint q1, q2;
+      q1.x = px + std::cos(a - half_beam) * r;
+      q1.y = py + std::sin(a - half_beam) * r;
+      q2.x = px + std::cos(a + half_beam) * r;
+      q2.y = py + std::sin(a + half_beam) * r;
+      q1.cx = grid.x_to_idx(q1.x);
+      q1.cy = grid.y_to_idx(q1.y);
+      q2.cx = grid.x_to_idx(q2.x);
+      q2.cy = grid.y_to_idx(q2.y);
+      if (q1.cx == q2.cx && q1.cy == q2.cy) {
+        ins.occupied_cell(q1.cx, q1.cy);
+      } else {
+        const int dx = q2.cx - q1.cx, dy = q2.cy - q1.cy;
+        const int n_steps = std::max(std::abs(dx), std::abs(dy)) + 1;
+        const float inv_n = 1.0f / static_cast<float>(n_steps);
+        const int fr_dx = fr_round(dx, inv_n);
+        const int fr_dy = fr_round(dy, inv_n);
+        int fx = q1.cx * kFrOne, fy = q1.cy * kFrOne;
+        int cx = q1.cx, cy = q1.cy;
+        for (int s = 0; s <= n_steps; ++s) {
+          ins.occupied_cell(cx, cy);
+          fx += fr_dx;
+          fy += fr_dy;
+          cx = fx >> kFrBits;
+          cy = fy >> kFrBits;
+        }
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace
+
+template <GridCell Cell>
+GridInsertResult insert_scan(OccupancyGridT<Cell>& grid, const RangeScan2D& scan,
+                             const Pose3& T_map_robot, const GridInsertionOptions& opt) {
+  return insert_impl(grid, scan, T_map_robot, opt, false);
+}
+
+namespace detail {
+
+template <GridCell Cell>
+GridInsertResult insert_scan_mrpt_overflow(OccupancyGridT<Cell>& grid, const RangeScan2D& scan,
+                                           const Pose3& T_map_robot,
+                                           const GridInsertionOptions& opt) {
+  return insert_impl(grid, scan, T_map_robot, opt, true);
+}
+
+template <GridCell Cell>
+ScanInformation scan_information(const OccupancyGridT<Cell>& grid, const RangeScan2D& scan,
+                                 const Pose3& T_map_robot, const GridInsertionOptions& opt,
+                                 int ray_step) {
+  scan.check();
+  opt.check();
+  ROVE_CHECK_GE(ray_step, 1);
+  using Traits = LogOddsTraits<Cell>;
+  const auto& lut = LogOddsLut<Cell>::instance();
+  ScanInformation info;
+  const Pose3 T_map_sensor = T_map_robot + scan.T_robot_sensor;
+  const float max_certainty = opt.max_occupancy_update_certainty;
+  const float max_free =
+      opt.max_freeness_update_certainty == 0.0f ? max_certainty : opt.max_freeness_update_certainty;
+  const float max_noecho =
+      opt.max_freeness_invalid_ranges == 0.0f ? max_certainty : opt.max_freeness_invalid_ranges;
+  const int obs_free = std::max<int>(1, lut.p2l(max_free));
+  const int obs_noecho = std::max<int>(1, lut.p2l(max_noecho));
+  const int obs_occ = std::min(Traits::kMax, 3 * std::max<int>(1, lut.p2l(max_certainty)));
+  constexpr float kMaxH = 0.69314718055994531f;
+  const auto entropy = [](float p) { return (p == 0.0f || p == 1.0f) ? 0.0f : -p * std::log(p); };
+  // One visit: the Bayesian update of the cell by an observation of
+  // probability-of-free v, scored by the information of the result (MRPT's
+  // updateCell in its information-counting mode).
+  const auto visit = [&](int cx, int cy, int obs_logodds) {
+    const float old = grid.contains(cx, cy) ? lut.l2p(grid.cells()[grid.index(cx, cy)]) : 0.5f;
+    const float v = lut.l2p(static_cast<Cell>(obs_logodds));
+    const float nv = 1.0f / (1.0f + (1.0f - v) * (1.0f - old) / (old * v));
+    info.information += 1.0f - (entropy(nv) + entropy(1.0f - nv)) / kMaxH;
+    ++info.cells;
+  };
+  const auto n_rays = static_cast<int>(scan.size());
+  if (n_rays == 0) return info;
+  const bool upside_down = T_map_sensor.rotation()(2, 2) < 0;
+  const bool ccw = scan.right_to_left != upside_down;
+  const float aperture = static_cast<float>(scan.aperture);
+  const float px = static_cast<float>(T_map_sensor.x());
+  const float py = static_cast<float>(T_map_sensor.y());
+  const float max_dist = opt.max_distance_insertion;
+  // Keep every cell index representable (a pose far from the grid has no
+  // cell of the grid within reach anyway).
+  const double reach = (std::fabs(px - grid.x_min()) + std::fabs(py - grid.y_min()) + max_dist) /
+                       grid.resolution();
+  if (!(reach < 1e9)) return info;
+  const float d_angle = (ccw ? 1.0f : -1.0f) * static_cast<float>(ray_step) * aperture /
+                        static_cast<float>(n_rays);
+  float a = static_cast<float>(ccw ? T_map_sensor.yaw() - 0.5f * aperture
+                                   : T_map_sensor.yaw() + 0.5f * aperture);
+  const int cx0 = grid.x_to_idx(px), cy0 = grid.y_to_idx(py);
+  float last_valid_range = max_dist;
+  for (int i = 0; i < n_rays; i += ray_step, a += d_angle) {
+    const auto si = static_cast<std::size_t>(i);
+    const float r = scan.ranges[si];
+    const bool ok = scan.valid[si] && std::isfinite(r) && r >= 0.0f;
+    float rr;
+    if (ok) {
+      rr = std::min(max_dist, r);
+      last_valid_range = r;
+    } else if (opt.consider_invalid_ranges_as_free_space) {
+      rr = std::min(max_dist, 0.5f * last_valid_range);
+    } else {
+      continue;
+    }
+    const int tx = grid.x_to_idx(px + std::cos(a) * rr);
+    const int ty = grid.y_to_idx(py + std::sin(a) * rr);
+    const int dx = tx - cx0, dy = ty - cy0;
+    const int n_steps = std::max(std::abs(dx), std::abs(dy));
+    if (n_steps == 0) continue;
+    const float inv_n = 1.0f / static_cast<float>(n_steps);
+    const int fr_dx = static_cast<int>((dx < 0 ? -1.0f : 1.0f) *
+                                       float_round(static_cast<float>(std::abs(dx) * kFrOne) * inv_n));
+    const int fr_dy = static_cast<int>((dy < 0 ? -1.0f : 1.0f) *
+                                       float_round(static_cast<float>(std::abs(dy) * kFrOne) * inv_n));
+    int fx = cx0 * kFrOne, fy = cy0 * kFrOne, cx = cx0, cy = cy0;
+    for (int k = 0; k < n_steps; ++k) {
+      visit(cx, cy, ok ? obs_free : obs_noecho);
+      fx += fr_dx;
+      fy += fr_dy;
+      cx = fx >> kFrBits;
+      cy = fy >> kFrBits;
+    }
+    if (ok && r < max_dist) visit(tx, ty, -obs_occ);
+  }
+  return info;
+}
+
+template GridInsertResult insert_scan_mrpt_overflow(OccupancyGridT<std::int8_t>&,
+                                                    const RangeScan2D&, const Pose3&,
+                                                    const GridInsertionOptions&);
+template GridInsertResult insert_scan_mrpt_overflow(OccupancyGridT<std::int16_t>&,
+                                                    const RangeScan2D&, const Pose3&,
+                                                    const GridInsertionOptions&);
+template ScanInformation scan_information(const OccupancyGridT<std::int8_t>&, const RangeScan2D&,
+                                          const Pose3&, const GridInsertionOptions&, int);
+template ScanInformation scan_information(const OccupancyGridT<std::int16_t>&, const RangeScan2D&,
+                                          const Pose3&, const GridInsertionOptions&, int);
+
+}  // namespace detail
+
+template GridInsertResult insert_scan(OccupancyGridT<std::int8_t>&, const RangeScan2D&,
+                                      const Pose3&, const GridInsertionOptions&);
+template GridInsertResult insert_scan(OccupancyGridT<std::int16_t>&, const RangeScan2D&,
+                                      const Pose3&, const GridInsertionOptions&);
+
+}  // namespace rove
