@@ -1,0 +1,86 @@
+#pragma once
+/// \file
+/// OccupancyGridMetricMap: an OccupancyGrid (occupancy_grid.h) behind the
+/// MetricMap interface, configured as MRPT's COccupancyGridMap2D in a
+/// multi-metric map: `<prefix>_creationOpts` (`min_x`, `max_x`, `min_y`,
+/// `max_y`, `resolution`; MRPT's defaults ±10 m, 0.10 m), `<prefix>_insertOpts`
+/// (GridInsertionOptions, MRPT's keys) and `<prefix>_likelihoodOpts`.
+///
+/// Likelihood: rove's grid has no observation-likelihood model yet, so this
+/// map gives no likelihood information (can_compute_likelihood() is false);
+/// the likelihood keys of MRPT's files are accepted and listed as without
+/// effect.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rove/core/ini.h"
+#include "rove/maps/grid_insertion.h"
+#include "rove/maps/map_config.h"
+#include "rove/maps/metric_map.h"
+#include "rove/maps/occupancy_grid.h"
+
+namespace rove {
+
+/// Geometry of a new grid (`<prefix>_creationOpts`), MRPT's
+/// COccupancyGridMap2D::TMapDefinition defaults.
+struct OccupancyGridCreationOptions {
+  float min_x = -10.0f;     ///< meters
+  float max_x = 10.0f;      ///< meters
+  float min_y = -10.0f;     ///< meters
+  float max_y = 10.0f;      ///< meters
+  float resolution = 0.10f; ///< cell side, meters
+  /// Loads the keys present; ConfigError on max <= min or resolution <= 0.
+  static OccupancyGridCreationOptions load(const ConfigSection& section);
+};
+
+/// An occupancy grid as a MetricMap. Thread-safety: thread-compatible.
+class OccupancyGridMetricMap final : public MetricMap {
+ public:
+  /// A grid of the given geometry, all cells unknown.
+  explicit OccupancyGridMetricMap(OccupancyGridCreationOptions creation = {},
+                                  GridInsertionOptions insert_options = {});
+  /// The grid.
+  const OccupancyGrid& grid() const noexcept { return grid_; }
+  /// Mutable grid (e.g. to load one).
+  OccupancyGrid& grid() noexcept { return grid_; }
+  /// Scan insertion options.
+  GridInsertionOptions insert_options;
+
+  /// "occupancyGrid".
+  std::string_view kind() const noexcept override { return "occupancyGrid"; }
+  /// Inserts a RangeScan2D by ray casting (insert_scan); false for other
+  /// kinds and for scans insert_scan declines (not horizontal, off the map
+  /// plane).
+  bool insert(const Observation& observation, const Pose3& T_map_robot) override;
+  using MetricMap::insert;
+  /// False (no likelihood model yet; see the file comment).
+  bool can_compute_likelihood(const Observation&) const override { return false; }
+  /// 0 (no likelihood model yet).
+  double log_likelihood(const Observation&, const Pose3&) const override { return 0.0; }
+  /// True until a scan has been inserted.
+  bool empty() const override { return grid_.empty(); }
+  /// Restores the creation geometry with every cell unknown.
+  void clear() override;
+  /// The grid's extent (z = 0) when not empty.
+  MapBounds bounding_box() const override;
+  /// Cells whose probability differs from 0.5 (observed), of all cells.
+  MapStatistics statistics() const override;
+  /// Writes `<prefix>.pgm` (8-bit, row 0 = largest y, 255 = free, 0 =
+  /// occupied, as MRPT's bitmap) and `<prefix>_limits.txt` (MRPT's
+  /// `% Grid limits: [x_min x_max y_min y_max]`).
+  std::vector<std::string> save(const std::string& path_prefix) const override;
+
+ private:
+  OccupancyGridCreationOptions creation_;
+  OccupancyGrid grid_;
+};
+
+/// Factory used by MultiMetricMap: reads the creation, insertion and
+/// likelihood sections of `prefix`, checking for unknown keys.
+std::unique_ptr<MetricMap> make_occupancy_grid_metric_map(const IniFile& ini,
+                                                          const std::string& prefix,
+                                                          std::vector<IgnoredConfigKey>* ignored);
+
+}  // namespace rove

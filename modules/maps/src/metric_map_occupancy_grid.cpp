@@ -1,0 +1,121 @@
+#include "rove/maps/metric_map_occupancy_grid.h"
+
+#include <cmath>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "rove/core/error.h"
+#include "rove/obs/range_scan_2d.h"
+
+namespace rove {
+
+OccupancyGridCreationOptions OccupancyGridCreationOptions::load(const ConfigSection& s) {
+  OccupancyGridCreationOptions o;
+  o.min_x = s.get<float>("min_x", o.min_x);
+  o.max_x = s.get<float>("max_x", o.max_x);
+  o.min_y = s.get<float>("min_y", o.min_y);
+  o.max_y = s.get<float>("max_y", o.max_y);
+  o.resolution = s.get<float>("resolution", o.resolution);
+  if (!(o.max_x > o.min_x)) s.fail("max_x", fmt::format("max_x ({}) must exceed min_x ({})", o.max_x, o.min_x));
+  if (!(o.max_y > o.min_y)) s.fail("max_y", fmt::format("max_y ({}) must exceed min_y ({})", o.max_y, o.min_y));
+  if (!(o.resolution > 0)) s.fail("resolution", fmt::format("must be > 0, got {}", o.resolution));
+  return o;
+}
+
+OccupancyGridMetricMap::OccupancyGridMetricMap(OccupancyGridCreationOptions c,
+                                               GridInsertionOptions io)
+    : insert_options(io),
+      creation_(c),
+      grid_(c.min_x, c.max_x, c.min_y, c.max_y, c.resolution) {}
+
+bool OccupancyGridMetricMap::insert(const Observation& observation, const Pose3& T_map_robot) {
+  const auto* scan = dynamic_cast<const RangeScan2D*>(&observation);
+  if (scan == nullptr) return false;
+  return insert_scan(grid_, *scan, T_map_robot, insert_options).inserted();
+}
+
+void OccupancyGridMetricMap::clear() {
+  grid_.set_size(creation_.min_x, creation_.max_x, creation_.min_y, creation_.max_y,
+                 creation_.resolution);
+  grid_.set_empty(true);
+}
+
+MapBounds OccupancyGridMetricMap::bounding_box() const {
+  MapBounds b;
+  if (grid_.empty()) return b;
+  b.extend(Eigen::Vector3d(grid_.x_min(), grid_.y_min(), 0.0));
+  b.extend(Eigen::Vector3d(grid_.x_max(), grid_.y_max(), 0.0));
+  return b;
+}
+
+MapStatistics OccupancyGridMetricMap::statistics() const {
+  MapStatistics s;
+  s.unit = "cells";
+  s.total_cells = grid_.cells().size();
+  for (std::uint32_t cy = 0; cy < grid_.size_y(); ++cy) {
+    for (std::uint32_t cx = 0; cx < grid_.size_x(); ++cx) {
+      if (grid_.free_probability(static_cast<int>(cx), static_cast<int>(cy)) != 0.5f) ++s.elements;
+    }
+  }
+  s.bounds = bounding_box();
+  return s;
+}
+
+std::vector<std::string> OccupancyGridMetricMap::save(const std::string& prefix) const {
+  const std::string img = prefix + ".pgm";
+  {
+    std::ofstream f(img, std::ios::binary);
+    if (!f) throw IoError(img, "cannot open for writing");
+    f << "P5\n" << grid_.size_x() << ' ' << grid_.size_y() << "\n255\n";
+    std::string row(grid_.size_x(), '\0');
+    for (std::uint32_t r = 0; r < grid_.size_y(); ++r) {
+      const int cy = static_cast<int>(grid_.size_y() - 1 - r);
+      for (std::uint32_t cx = 0; cx < grid_.size_x(); ++cx) {
+        const float p = grid_.free_probability(static_cast<int>(cx), cy);
+        row[cx] = static_cast<char>(static_cast<unsigned char>(std::lround(p * 255.0f)));
+      }
+      f.write(row.data(), static_cast<std::streamsize>(row.size()));
+    }
+    if (!f) throw IoError(img, "write failed");
+  }
+  const std::string lim = prefix + "_limits.txt";
+  std::ofstream f(lim);
+  if (!f) throw IoError(lim, "cannot open for writing");
+  f << "% Grid limits: [x_min x_max y_min y_max]\n"
+    << fmt::format("{:.6f} {:.6f} {:.6f} {:.6f}\n", grid_.x_min(), grid_.x_max(), grid_.y_min(),
+                   grid_.y_max());
+  if (!f) throw IoError(lim, "write failed");
+  return {img, lim};
+}
+
+std::unique_ptr<MetricMap> make_occupancy_grid_metric_map(const IniFile& ini,
+                                                          const std::string& p,
+                                                          std::vector<IgnoredConfigKey>* ign) {
+  ConfigSection cs(ini, p + "_creationOpts", ign), is(ini, p + "_insertOpts", ign),
+      ls(ini, p + "_likelihoodOpts", ign);
+  const auto creation = OccupancyGridCreationOptions::load(cs);
+  GridInsertionOptions io;
+  io.load(ini, is.name());
+  // GridInsertionOptions::load reads with get(); mark what it consumed.
+  for (std::string_view k :
+       {"mapAltitude", "useMapAltitude", "maxDistanceInsertion", "maxOccupancyUpdateCertainty",
+        "maxFreenessUpdateCertainty", "maxFreenessInvalidRanges",
+        "considerInvalidRangesAsFreeSpace", "decimation", "horizontalTolerance",
+        "CFD_features_gaussian_size", "CFD_features_median_size", "wideningBeamsWithDistance"}) {
+    if (is.has(k)) (void)ini.raw(is.name(), k);
+  }
+  is.ignore({"minLaserScanNoiseStd"}, "MRPT 1.x key, not read by MRPT 2.x");
+  ls.ignore({"likelihoodMethod", "enableLikelihoodCache", "LF_stdHit", "LF_zHit", "LF_zRandom",
+             "LF_maxRange", "LF_decimation", "LF_maxCorrsDistance", "LF_useSquareDist",
+             "LF_alternateAverageMethod", "MI_exponent", "MI_skip_rays", "MI_ratio_max_distance",
+             "rayTracing_useDistanceFilter", "rayTracing_stdHit", "consensus_takeEachRange",
+             "consensus_pow", "OWA_weights"},
+            "rove's occupancy grid has no observation-likelihood model yet");
+  ls.ignore({"rayTracing_decimation"}, "MRPT 1.x key, not read by MRPT 2.x");
+  is.check_all_read();
+  ls.check_all_read();
+  return std::make_unique<OccupancyGridMetricMap>(creation, io);
+}
+
+}  // namespace rove

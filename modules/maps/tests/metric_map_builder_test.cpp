@@ -1,0 +1,116 @@
+#include "rove/maps/metric_map_builder.h"
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "rove/core/ini.h"
+#include "rove/maps/beacon_map.h"
+#include "rove/maps/landmark_map.h"
+#include "rove/maps/multi_metric_map.h"
+#include "rove/obs/rawlog_reader.h"
+
+namespace rove {
+namespace {
+
+const std::string kData = ROVE_SOURCE_DIR "/../shared/datasets/mrpt/";
+
+std::string dataset(const std::string& name) {
+  const std::string p = kData + name;
+  EXPECT_TRUE(std::filesystem::exists(p)) << "dataset missing: " << p;
+  return p;
+}
+
+/// Rows of numbers of a text file, skipping '%' comments and blank lines.
+std::vector<std::vector<double>> numeric_rows(const std::string& path) {
+  std::ifstream f(path);
+  EXPECT_TRUE(f.good()) << path;
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  while (std::getline(f, line)) {
+    if (line.empty() || line[0] == '%') continue;
+    std::istringstream in(line);
+    std::vector<double> row;
+    double v = 0;
+    while (in >> v) row.push_back(v);
+    if (!row.empty()) rows.push_back(row);
+  }
+  return rows;
+}
+
+// RO-SLAM demo: simulated range-only data (odometry noise 1 mm per step, so
+// the integrated odometry is the ground-truth path within centimeters).
+// Mapping the beacons with MRPT's own SOG configuration must put every
+// beacon near RO-SLAM_demo_ground_truth.txt.
+void expect_ro_slam_beacons(const std::string& config) {
+  const IniFile ini = IniFile::load("/usr/share/mrpt/config_files/rbpf-slam/" + config,
+                                    IniOptions{.strict = false});
+  MultiMetricMap mm = MultiMetricMap::from_config(ini, "MappingApplication");
+  ASSERT_EQ(mm.size(), 1u);
+  const MapBuildResult r = build_map(dataset("RO-SLAM_demo.rawlog"), mm);
+  EXPECT_EQ(r.input, MapInputKind::kRawlog);
+  EXPECT_EQ(r.keyframes, 100u);
+  EXPECT_EQ(r.odometry_steps, 100u);
+  EXPECT_EQ(mm.entries()[0].observations_inserted, 100u);
+  const auto& beacons = dynamic_cast<const BeaconMap&>(*mm.entries()[0].map);
+  const auto truth = numeric_rows(dataset("RO-SLAM_demo_ground_truth.txt"));
+  ASSERT_EQ(truth.size(), 15u);
+  std::size_t seen = 0, gaussian = 0;
+  double worst = 0;
+  for (const auto& row : truth) {
+    const Beacon* b = beacons.find(static_cast<std::int32_t>(row[0]));
+    if (b == nullptr) continue;  // never ranged in this log
+    ++seen;
+    if (b->kind == BeaconPdfKind::kGaussian) ++gaussian;
+    const PointGaussian3 g = b->moments();
+    const double err = std::hypot(g.mean.x() - row[1], g.mean.y() - row[2]);
+    worst = std::max(worst, err);
+    EXPECT_LT(err, 0.15) << "beacon " << row[0] << " at " << g.mean.transpose();
+  }
+  EXPECT_EQ(seen, beacons.beacons().size());
+  EXPECT_GE(seen, 10u);
+  EXPECT_EQ(gaussian, seen) << "every beacon should have collapsed to one Gaussian";
+  ::testing::Test::RecordProperty("worst_beacon_error_m", std::to_string(worst));
+}
+
+TEST(MapBuild, RoSlamBeaconsSogNearGroundTruth) { expect_ro_slam_beacons("RO-SLAM_simulatedData_SOG.ini"); }
+TEST(MapBuild, RoSlamBeaconsMonteCarloNearGroundTruth) {
+  expect_ro_slam_beacons("RO-SLAM_simulatedData_MC.ini");
+}
+
+// kf-slam demo: bearing-range landmarks inserted at the ground-truth robot
+// path must land on the ground-truth landmarks.
+TEST(MapBuild, KfSlamLandmarksAtGroundTruthPath) {
+  const auto path = numeric_rows(dataset("kf-slam_demo_ground_truth_robot_path.txt"));
+  const auto truth = numeric_rows(dataset("kf-slam_demo_ground_truth.txt"));
+  const Rawlog log = load_rawlog(dataset("kf-slam_demo.rawlog"));
+  LandmarkMap map;
+  std::size_t frame = 0;
+  for (const auto& e : log.entries) {
+    const auto* sf = std::get_if<std::shared_ptr<const SensoryFrame>>(&e);
+    if (sf == nullptr) continue;
+    ASSERT_LT(frame, path.size());
+    const auto& p = path[frame++];
+    map.insert(**sf, Pose3(p[0], p[1], p[2], p[3], p[4], p[5]));
+  }
+  EXPECT_EQ(frame, path.size());
+  ASSERT_FALSE(map.empty());
+  std::size_t matched = 0;
+  for (const auto& l : map.landmarks()) {
+    // Nearest ground-truth landmark.
+    double best = 1e9;
+    for (const auto& t : truth) {
+      best = std::min(best, (l.position.mean - Eigen::Vector3d(t[0], t[1], t[2])).norm());
+    }
+    EXPECT_LT(best, 0.25) << "landmark " << l.id << " at " << l.position.mean.transpose();
+    if (best < 0.25) ++matched;
+  }
+  EXPECT_EQ(matched, map.landmarks().size());
+  EXPECT_GE(map.landmarks().size(), 10u);
+}
+
+}  // namespace
+}  // namespace rove
