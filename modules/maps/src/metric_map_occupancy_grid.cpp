@@ -24,10 +24,29 @@ OccupancyGridCreationOptions OccupancyGridCreationOptions::load(const ConfigSect
 }
 
 OccupancyGridMetricMap::OccupancyGridMetricMap(OccupancyGridCreationOptions c,
-                                               GridInsertionOptions io)
+                                               GridInsertionOptions io, GridLikelihoodOptions lo)
     : insert_options(io),
+      likelihood_options(std::move(lo)),
       creation_(c),
       grid_(c.min_x, c.max_x, c.min_y, c.max_y, c.resolution) {}
+
+OccupancyGridMetricMap::~OccupancyGridMetricMap() = default;
+
+bool OccupancyGridMetricMap::can_compute_likelihood(const Observation& observation) const {
+  return dynamic_cast<const RangeScan2D*>(&observation) != nullptr;
+}
+
+double OccupancyGridMetricMap::log_likelihood(const Observation& observation,
+                                              const Pose3& T_map_robot) const {
+  const auto* scan = dynamic_cast<const RangeScan2D*>(&observation);
+  if (scan == nullptr) return 0.0;
+  if (!model_ || model_revision_ != grid_.revision()) {
+    model_ = std::make_unique<GridLikelihoodModel<std::int8_t>>(grid_, likelihood_options,
+                                                                insert_options);
+    model_revision_ = grid_.revision();
+  }
+  return model_->log_likelihood(*scan, T_map_robot);
+}
 
 bool OccupancyGridMetricMap::insert(const Observation& observation, const Pose3& T_map_robot) {
   const auto* scan = dynamic_cast<const RangeScan2D*>(&observation);
@@ -106,16 +125,19 @@ std::unique_ptr<MetricMap> make_occupancy_grid_metric_map(const IniFile& ini,
     if (is.has(k)) (void)ini.raw(is.name(), k);
   }
   is.ignore({"minLaserScanNoiseStd"}, "MRPT 1.x key, not read by MRPT 2.x");
-  ls.ignore({"likelihoodMethod", "enableLikelihoodCache", "LF_stdHit", "LF_zHit", "LF_zRandom",
-             "LF_maxRange", "LF_decimation", "LF_maxCorrsDistance", "LF_useSquareDist",
-             "LF_alternateAverageMethod", "MI_exponent", "MI_skip_rays", "MI_ratio_max_distance",
-             "rayTracing_useDistanceFilter", "rayTracing_stdHit", "consensus_takeEachRange",
-             "consensus_pow", "OWA_weights"},
-            "rove's occupancy grid has no observation-likelihood model yet");
-  ls.ignore({"rayTracing_decimation"}, "MRPT 1.x key, not read by MRPT 2.x");
+  GridLikelihoodOptions lo;
+  lo.load(ini, ls.name());
+  for (std::string_view k :
+       {"likelihoodMethod", "enableLikelihoodCache", "LF_stdHit", "LF_zHit", "LF_zRandom",
+        "LF_maxRange", "LF_decimation", "LF_maxCorrsDistance", "LF_useSquareDist",
+        "LF_alternateAverageMethod", "MI_exponent", "MI_skip_rays", "MI_ratio_max_distance",
+        "rayTracing_useDistanceFilter", "rayTracing_decimation", "rayTracing_stdHit",
+        "consensus_takeEachRange", "consensus_pow", "OWA_weights"}) {
+    if (ls.has(k)) (void)ini.raw(ls.name(), k);
+  }
   is.check_all_read();
   ls.check_all_read();
-  return std::make_unique<OccupancyGridMetricMap>(creation, io);
+  return std::make_unique<OccupancyGridMetricMap>(creation, io, std::move(lo));
 }
 
 }  // namespace rove

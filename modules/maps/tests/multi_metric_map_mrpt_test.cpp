@@ -12,6 +12,8 @@
 #include "rove/maps/metric_map_occupancy_grid.h"
 #include "rove/maps/metric_map_points.h"
 #include "rove/maps/multi_metric_map.h"
+#include "rove/obs/mrpt_simplemap.h"
+#include "rove/obs/range_scan_2d.h"
 
 namespace rove {
 namespace {
@@ -85,6 +87,17 @@ TEST(MultiMetricMapVsMrpt, GridCellClassesAgreeWithMrpt) {
   EXPECT_GT(mrpt_known, total / 20);  // the map is not trivially unknown
   EXPECT_GE(static_cast<double>(same) / static_cast<double>(total), 0.99)
       << same << " of " << total << " cells agree";
+  // The grid's likelihood (MRPT's likelihood field, from the config) peaks
+  // at the keyframe pose the scan was inserted from.
+  const SimpleMap sm = load_mrpt_simplemap(kSimplemap);
+  const auto& kf = sm.keyframes[sm.keyframes.size() / 2];
+  const auto scan = kf.frame->find<RangeScan2D>();
+  ASSERT_NE(scan, nullptr);
+  const Pose3 T = kf.pose.mean();
+  ASSERT_TRUE(mm.can_compute_likelihood(*scan));
+  const double at = mm.log_likelihood(*scan, T);
+  EXPECT_GT(at, mm.log_likelihood(*scan, Pose3(0.3, 0, 0, 0, 0, 0) + T));
+  EXPECT_GT(at, mm.log_likelihood(*scan, T + Pose3(0, 0, 0, 0.1, 0, 0)));
 }
 
 }  // namespace

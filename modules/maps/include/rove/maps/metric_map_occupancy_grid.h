@@ -6,10 +6,10 @@
 /// `max_y`, `resolution`; MRPT's defaults ±10 m, 0.10 m), `<prefix>_insertOpts`
 /// (GridInsertionOptions, MRPT's keys) and `<prefix>_likelihoodOpts`.
 ///
-/// Likelihood: rove's grid has no observation-likelihood model yet, so this
-/// map gives no likelihood information (can_compute_likelihood() is false);
-/// the likelihood keys of MRPT's files are accepted and listed as without
-/// effect.
+/// Likelihood: GridLikelihoodModel (grid_likelihood.h) with the options of
+/// `<prefix>_likelihoodOpts` (MRPT's seven methods and keys). The model is
+/// rebuilt lazily when the grid changed, so the first log_likelihood()
+/// after an insertion must not run concurrently with others.
 
 #include <memory>
 #include <string>
@@ -17,6 +17,7 @@
 
 #include "rove/core/ini.h"
 #include "rove/maps/grid_insertion.h"
+#include "rove/maps/grid_likelihood.h"
 #include "rove/maps/map_config.h"
 #include "rove/maps/metric_map.h"
 #include "rove/maps/occupancy_grid.h"
@@ -40,13 +41,18 @@ class OccupancyGridMetricMap final : public MetricMap {
  public:
   /// A grid of the given geometry, all cells unknown.
   explicit OccupancyGridMetricMap(OccupancyGridCreationOptions creation = {},
-                                  GridInsertionOptions insert_options = {});
+                                  GridInsertionOptions insert_options = {},
+                                  GridLikelihoodOptions likelihood_options = {});
+  ~OccupancyGridMetricMap() override;
   /// The grid.
   const OccupancyGrid& grid() const noexcept { return grid_; }
   /// Mutable grid (e.g. to load one).
   OccupancyGrid& grid() noexcept { return grid_; }
   /// Scan insertion options.
   GridInsertionOptions insert_options;
+  /// Likelihood options (changing them takes effect on the next
+  /// log_likelihood() after an insertion or clear()).
+  GridLikelihoodOptions likelihood_options;
 
   /// "occupancyGrid".
   std::string_view kind() const noexcept override { return "occupancyGrid"; }
@@ -55,10 +61,12 @@ class OccupancyGridMetricMap final : public MetricMap {
   /// plane).
   bool insert(const Observation& observation, const Pose3& T_map_robot) override;
   using MetricMap::insert;
-  /// False (no likelihood model yet; see the file comment).
-  bool can_compute_likelihood(const Observation&) const override { return false; }
-  /// 0 (no likelihood model yet).
-  double log_likelihood(const Observation&, const Pose3&) const override { return 0.0; }
+  /// True for RangeScan2D.
+  bool can_compute_likelihood(const Observation& observation) const override;
+  /// The scan's log-likelihood with the configured method (MRPT's
+  /// computeObservationLikelihood); 0 for other kinds.
+  double log_likelihood(const Observation& observation,
+                        const Pose3& T_map_robot) const override;
   /// True until a scan has been inserted.
   bool empty() const override { return grid_.empty(); }
   /// Restores the creation geometry with every cell unknown.
@@ -75,6 +83,8 @@ class OccupancyGridMetricMap final : public MetricMap {
  private:
   OccupancyGridCreationOptions creation_;
   OccupancyGrid grid_;
+  mutable std::unique_ptr<GridLikelihoodModel<std::int8_t>> model_;
+  mutable std::uint64_t model_revision_ = 0;
 };
 
 /// Factory used by MultiMetricMap: reads the creation, insertion and
