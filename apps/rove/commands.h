@@ -12,5 +12,8 @@ void add_demo_command(CLI::App& app);
 void add_config_command(CLI::App& app);
 /// `rove rawlog info FILE [--json]`: stream a rawlog and summarize it.
 void add_rawlog_command(CLI::App& app);
+/// `rove map build CONFIG INPUT -o DIR [--section S] [--json]`: build the
+/// maps an MRPT config declares from a rawlog or simplemap.
+void add_map_command(CLI::App& app);
 
 }  // namespace rove::cli
