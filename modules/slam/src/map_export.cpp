@@ -1,0 +1,170 @@
+#include "rove/slam/map_export.h"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "rove/core/check.h"
+#include "rove/core/error.h"
+
+namespace rove {
+namespace {
+
+std::string file_name(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+// 8-bit PNG of `channels` (1: gray, 3: RGB) per pixel, rows top to bottom.
+void write_png(const std::string& path, int width, int height, int channels,
+               const std::vector<std::uint8_t>& pixels) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
+  if (!f) throw IoError(path, "cannot open for writing");
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (png == nullptr || info == nullptr) {
+    png_destroy_write_struct(&png, &info);
+    throw IoError(path, "cannot create the PNG encoder");
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw IoError(path, "PNG encoding failed");
+  }
+  png_init_io(png, f.get());
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
+               channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  const std::size_t stride = static_cast<std::size_t>(width) * static_cast<std::size_t>(channels);
+  for (int y = 0; y < height; ++y) {
+    png_write_row(png, const_cast<png_bytep>(pixels.data() + stride * static_cast<std::size_t>(y)));
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  if (std::fflush(f.get()) != 0) throw IoError(path, "write failed");
+}
+
+void check_stream(const std::ofstream& out, const std::string& path) {
+  if (!out) throw IoError(path, "write failed");
+}
+
+}  // namespace
+
+void write_tum_trajectory(const std::string& path, const std::vector<TimedPose2>& poses) {
+  std::ofstream out(path);
+  if (!out) throw IoError(path, "cannot open for writing");
+  out << "# t x y z qx qy qz qw\n";
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const auto& p = poses[i];
+    const double t = p.time.valid() ? p.time.to_seconds() : static_cast<double>(i);
+    const double h = 0.5 * p.pose.phi();
+    out << fmt::format("{:.6f} {:.6f} {:.6f} 0 0 0 {:.9f} {:.9f}\n", t, p.pose.x(), p.pose.y(),
+                       std::sin(h), std::cos(h));
+  }
+  out.close();
+  check_stream(out, path);
+}
+
+void write_ply(const std::string& path, const PointCloud& cloud) {
+  std::ofstream out(path);
+  if (!out) throw IoError(path, "cannot open for writing");
+  out << "ply\nformat ascii 1.0\ncomment written by rove icp-slam\nelement vertex "
+      << cloud.size() << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  for (const auto& p : cloud.points()) out << fmt::format("{} {} {}\n", p.x(), p.y(), p.z());
+  out.close();
+  check_stream(out, path);
+}
+
+GridMapFiles write_grid_map(const std::string& prefix, const OccupancyGrid& grid) {
+  GridMapFiles files{prefix + ".png", prefix + ".yaml"};
+  const int w = static_cast<int>(grid.size_x()), h = static_cast<int>(grid.size_y());
+  ROVE_CHECK_MSG(w > 0 && h > 0, "the grid has no cells");
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  for (int cy = 0; cy < h; ++cy) {
+    const std::size_t row = static_cast<std::size_t>(h - 1 - cy) * static_cast<std::size_t>(w);
+    for (int cx = 0; cx < w; ++cx) {
+      const float p = grid.free_probability(cx, cy);
+      px[row + static_cast<std::size_t>(cx)] =
+          static_cast<std::uint8_t>(std::clamp(std::lround(255.0f * p), 0L, 255L));
+    }
+  }
+  write_png(files.image, w, h, 1, px);
+  std::ofstream y(files.yaml);
+  if (!y) throw IoError(files.yaml, "cannot open for writing");
+  y << "image: " << file_name(files.image) << "\n"
+    << fmt::format("resolution: {}\n", grid.resolution())
+    << fmt::format("origin: [{}, {}, 0.0]\n", grid.x_min(), grid.y_min())
+    << "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  y.close();
+  check_stream(y, files.yaml);
+  return files;
+}
+
+void render_points_png(const std::string& path, const PointCloud& cloud,
+                       const std::vector<Pose2>& robot_path, const PointsImageOptions& options) {
+  ROVE_CHECK_GT(options.resolution, 0.0);
+  ROVE_CHECK_GE(options.margin, 0.0);
+  ROVE_CHECK_GE(options.max_side, 16);
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  const auto extend = [&](double x, double y) {
+    if (!std::isfinite(x) || !std::isfinite(y)) return;
+    x0 = std::min(x0, x);
+    y0 = std::min(y0, y);
+    x1 = std::max(x1, x);
+    y1 = std::max(y1, y);
+  };
+  for (const auto& p : cloud.points()) extend(p.x(), p.y());
+  for (const auto& p : robot_path) extend(p.x(), p.y());
+  if (!(x0 <= x1)) x0 = y0 = x1 = y1 = 0.0;
+  x0 -= options.margin;
+  y0 -= options.margin;
+  x1 += options.margin;
+  y1 += options.margin;
+  double res = options.resolution;
+  const double side = std::max(x1 - x0, y1 - y0);
+  if (side / res > options.max_side) res = side / options.max_side;
+  const int w = std::max(1, static_cast<int>(std::ceil((x1 - x0) / res)));
+  const int h = std::max(1, static_cast<int>(std::ceil((y1 - y0) / res)));
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3, 255);
+  const auto put = [&](double x, double y, std::uint8_t r, std::uint8_t g, std::uint8_t b,
+                       int radius) {
+    if (!std::isfinite(x) || !std::isfinite(y)) return;
+    const int cx = static_cast<int>((x - x0) / res);
+    const int cy = h - 1 - static_cast<int>((y - y0) / res);
+    for (int dy = -radius; dy <= radius; ++dy) {
+      for (int dx = -radius; dx <= radius; ++dx) {
+        const int u = cx + dx, v = cy + dy;
+        if (u < 0 || v < 0 || u >= w || v >= h) continue;
+        std::uint8_t* q = &px[(static_cast<std::size_t>(v) * static_cast<std::size_t>(w) +
+                               static_cast<std::size_t>(u)) * 3];
+        q[0] = r;
+        q[1] = g;
+        q[2] = b;
+      }
+    }
+  };
+  for (const auto& p : cloud.points()) put(p.x(), p.y(), 40, 40, 40, 0);
+  for (std::size_t i = 1; i < robot_path.size(); ++i) {
+    const Pose2& a = robot_path[i - 1];
+    const Pose2& b = robot_path[i];
+    const int n = std::max(1, static_cast<int>(std::ceil(a.distance_to(b) / (0.5 * res))));
+    for (int k = 0; k <= n; ++k) {
+      const double s = static_cast<double>(k) / n;
+      put(a.x() + s * (b.x() - a.x()), a.y() + s * (b.y() - a.y()), 220, 30, 30, 0);
+    }
+  }
+  if (!robot_path.empty()) {
+    put(robot_path.front().x(), robot_path.front().y(), 0, 170, 0, 3);
+    put(robot_path.back().x(), robot_path.back().y(), 0, 0, 220, 3);
+  }
+  write_png(path, w, h, 3, px);
+}
+
+}  // namespace rove

@@ -1,0 +1,221 @@
+// ICP-SLAM against MRPT 2.5.8's icp-slam on the bundled Telecom Faculty loop
+// (references frozen by tools/mrpt_icp_slam_reference/make_reference.sh).
+
+#include "rove/slam/icp_slam.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "icp_slam_test_util.h"
+#include "rove/core/error.h"
+#include "rove/core/ini.h"
+#include "rove/maps/metric_map_points.h"
+#include "rove/obs/range_scan_2d.h"
+#include "rove/slam/icp_slam_run.h"
+
+namespace rove {
+namespace {
+
+using test::data_path;
+using test::load_mrpt_path;
+using test::reference_path;
+using test::telecom_rawlog;
+
+struct SlamRun {
+  IcpSlamRunResult result;
+  std::size_t keyframes = 0;
+  std::size_t points = 0;
+  IcpSlamStats stats;
+  std::vector<Pose2> path, odometry;
+};
+
+SlamRun run_config(const IniFile& ini) {
+  IcpSlamConfig cfg = load_icp_slam_config(ini);
+  IcpSlam slam(cfg.options, std::move(cfg.map));
+  SlamRun r;
+  r.result = run_icp_slam(slam, telecom_rawlog());
+  r.keyframes = slam.keyframes().size();
+  r.stats = slam.stats();
+  for (const auto& e : slam.map().entries()) {
+    if (auto* p = dynamic_cast<const PointsMetricMap*>(e.map.get())) r.points = p->points().cloud().size();
+  }
+  for (const auto& s : r.result.steps) {
+    r.path.push_back(s.pose);
+    r.odometry.push_back(s.odometry);
+  }
+  return r;
+}
+
+void expect_agrees_with_mrpt(const std::string& variant, double rmse_tol, double end_tol) {
+  const SlamRun r = run_config(IniFile::load(data_path("icp-slam_demo_" + variant + ".ini")));
+  const auto mrpt = load_mrpt_path(reference_path("mrpt_icp_slam_" + variant + "_path.txt"));
+  const auto mrpt_odo = load_mrpt_path(reference_path("mrpt_icp_slam_" + variant + "_odometry.txt"));
+  const auto counts = test::load_counts(reference_path("mrpt_icp_slam_" + variant + "_counts.txt"));
+  ASSERT_EQ(mrpt.size(), 224u);
+  ASSERT_EQ(r.path.size(), mrpt.size());
+
+  // The same steps see the same odometry (MRPT's accumulation, same pairing
+  // of actions and frames).
+  for (std::size_t i = 0; i < mrpt.size(); ++i) {
+    ASSERT_NEAR(r.odometry[i].x(), mrpt_odo[i].x(), 1e-5) << "step " << i;
+    ASSERT_NEAR(r.odometry[i].y(), mrpt_odo[i].y(), 1e-5) << "step " << i;
+    ASSERT_NEAR(r.odometry[i].phi(), mrpt_odo[i].phi(), 1e-5) << "step " << i;
+  }
+  // No ICP before the robot has moved localizationLinDistance: the path is
+  // the odometry until then, exactly as MRPT's.
+  for (std::size_t i = 0; i < mrpt.size() && mrpt[i].distance_to(mrpt_odo[i]) == 0.0; ++i) {
+    EXPECT_NEAR(r.path[i].distance_to(mrpt[i]), 0.0, 1e-5) << "step " << i;
+  }
+
+  const double rmse = test::position_rmse(r.path, mrpt);
+  std::printf("[%s] position RMSE vs MRPT: %.4f m over %zu steps; final pose %s vs MRPT %s; "
+              "keyframes %zu (MRPT %g), points %zu (MRPT %g)\n",
+              variant.c_str(), rmse, mrpt.size(), r.path.back().as_string().c_str(),
+              mrpt.back().as_string().c_str(), r.keyframes, counts.at("keyframes"), r.points,
+              counts.at("points"));
+  EXPECT_LT(rmse, rmse_tol);
+  // The loop closes where MRPT's does.
+  EXPECT_LT(r.path.back().distance_to(mrpt.back()), end_tol);
+  EXPECT_LT(std::abs((r.path.back() - mrpt.back()).phi()), 3.0 * std::numbers::pi / 180.0);
+  // Map size as MRPT's (same insertion rule, same point filter).
+  EXPECT_NEAR(static_cast<double>(r.keyframes), counts.at("keyframes"), 5.0);
+  EXPECT_NEAR(static_cast<double>(r.points), counts.at("points"), 0.1 * counts.at("points"));
+  // ICP ran, mostly accepted, with MRPT's gate schedule (tens of iterations).
+  EXPECT_GT(r.stats.icp_runs, 150u);
+  EXPECT_GT(r.stats.icp_accepted, r.stats.icp_runs * 9 / 10);
+}
+
+TEST(IcpSlam, ClassicDemoAgreesWithMrpt) { expect_agrees_with_mrpt("classic", 0.10, 0.15); }
+
+TEST(IcpSlam, LevenbergMarquardtDemoAgreesWithMrpt) { expect_agrees_with_mrpt("LM", 0.10, 0.15); }
+
+TEST(IcpSlam, FirstScanInsertedAtOriginWithoutIcp) {
+  IcpSlamConfig cfg = load_icp_slam_config(IniFile::load(data_path("icp-slam_demo_classic.ini")));
+  IcpSlam slam(cfg.options, std::move(cfg.map));
+  auto scan = std::make_shared<RangeScan2D>();
+  scan->sensor_label = "LASER";
+  scan->aperture = std::numbers::pi;
+  for (int i = 0; i < 181; ++i) {
+    scan->ranges.push_back(2.0f + 0.01f * static_cast<float>(i % 7));
+    scan->valid.push_back(true);
+  }
+  const IcpSlamUpdate u = slam.process(scan);
+  EXPECT_FALSE(u.icp_ran);
+  EXPECT_TRUE(u.inserted);
+  ASSERT_EQ(slam.keyframes().size(), 1u);
+  EXPECT_EQ(slam.keyframes()[0].pose.to_vector(), Pose2().to_vector());
+  // The same scan again at the same place: ICP runs against the map (no
+  // odometry arrived), finds the identity and nothing new is inserted.
+  const IcpSlamUpdate v = slam.process(scan);
+  EXPECT_TRUE(v.icp_ran);
+  EXPECT_TRUE(v.icp_accepted);
+  EXPECT_FALSE(v.inserted);
+  EXPECT_LT(v.pose.norm(), 1e-3);
+}
+
+TEST(IcpSlam, MatchingAgainstTheGridFollowsMrptPath) {
+  // The classic demo with an occupancy grid added and matched against.
+  IniFile ini = IniFile::load(data_path("icp-slam_demo_classic.ini"));
+  ini.set("MappingApplication", "matchAgainstTheGrid", "1");
+  ini.set("MappingApplication", "occupancyGrid_count", "1");
+  const std::string grid = "MappingApplication_occupancyGrid_00_creationOpts";
+  ini.set(grid, "resolution", "0.05");
+  for (const char* k : {"min_x", "min_y"}) ini.set(grid, k, "-40");
+  for (const char* k : {"max_x", "max_y"}) ini.set(grid, k, "40");
+  const SlamRun r = run_config(ini);
+  const auto mrpt = load_mrpt_path(reference_path("mrpt_icp_slam_classic_path.txt"));
+  ASSERT_EQ(r.path.size(), mrpt.size());
+  const double rmse = test::position_rmse(r.path, mrpt);
+  std::printf("[grid] position RMSE vs MRPT (points): %.4f m\n", rmse);
+  EXPECT_LT(rmse, 0.25);
+  EXPECT_LT(r.path.back().distance_to(mrpt.back()), 0.3);
+}
+
+TEST(IcpSlamConfig, UnknownMappingKeyIsNamed) {
+  IniFile ini = IniFile::load(data_path("icp-slam_demo_classic.ini"));
+  ini.set("MappingApplication", "insertionLinDistanc", "1.0");
+  try {
+    static_cast<void>(load_icp_slam_config(ini));
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.section(), "MappingApplication");
+    EXPECT_EQ(e.key(), "insertionLinDistanc");
+  }
+}
+
+TEST(IcpSlamConfig, UnknownIcpKeyIsNamed) {
+  IniFile ini = IniFile::load(data_path("icp-slam_demo_classic.ini"));
+  ini.set("ICP", "maxIteration", "3");
+  try {
+    static_cast<void>(load_icp_slam_config(ini));
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.section(), "ICP");
+    EXPECT_EQ(e.key(), "maxIteration");
+  }
+}
+
+TEST(IcpSlamConfig, ReadsMrptUnitsAndRejectsBadValues) {
+  IniFile ini = IniFile::load(data_path("icp-slam_demo_classic.ini"));
+  const IcpSlamConfig cfg = load_icp_slam_config(ini);
+  EXPECT_DOUBLE_EQ(cfg.options.localization_lin_distance, 0.2);
+  EXPECT_NEAR(cfg.options.localization_ang_distance, 5.0 * std::numbers::pi / 180.0, 1e-12);
+  EXPECT_NEAR(cfg.options.insertion_ang_distance, 45.0 * std::numbers::pi / 180.0, 1e-12);
+  EXPECT_DOUBLE_EQ(cfg.options.min_icp_goodness_to_accept, 0.4);
+  EXPECT_EQ(cfg.options.icp.max_iterations, 80u);
+  EXPECT_FALSE(cfg.ignored_keys.empty());
+
+  IniFile bad = IniFile::load(data_path("icp-slam_demo_classic.ini"));
+  bad.set("MappingApplication", "minICPgoodnessToAccept", "1.5");
+  EXPECT_THROW(static_cast<void>(load_icp_slam_config(bad)), ConfigError);
+  IniFile none = IniFile::load(data_path("icp-slam_demo_classic.ini"));
+  none.set("MappingApplication", "pointsMap_count", "0");
+  try {
+    static_cast<void>(load_icp_slam_config(none));
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "pointsMap_count");
+  }
+}
+
+TEST(IcpSlamRun, TruncatedRawlogNamesFileAndOffset) {
+  const auto dir = std::filesystem::temp_directory_path() / "rove_icp_slam_truncated";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "truncated.rawlog").string();
+  {
+    std::ifstream in(telecom_rawlog(), std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
+    ASSERT_GT(bytes.size(), 20000u);
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), 20000);
+  }
+  IcpSlamConfig cfg = load_icp_slam_config(IniFile::load(data_path("icp-slam_demo_classic.ini")));
+  IcpSlam slam(cfg.options, std::move(cfg.map));
+  try {
+    static_cast<void>(run_icp_slam(slam, path));
+    FAIL() << "expected a ParseError";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.location().source, path);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(IcpSlamRun, OffsetAndMaxSteps) {
+  IcpSlamConfig cfg = load_icp_slam_config(IniFile::load(data_path("icp-slam_demo_classic.ini")));
+  IcpSlam slam(cfg.options, std::move(cfg.map));
+  IcpSlamRunOptions o;
+  o.rawlog_offset = 10;
+  o.max_steps = 5;
+  const auto r = run_icp_slam(slam, telecom_rawlog(), o);
+  ASSERT_EQ(r.steps.size(), 5u);
+  EXPECT_EQ(r.steps.front().index, 10u);
+  EXPECT_EQ(r.steps.back().index, 14u);
+}
+
+}  // namespace
+}  // namespace rove
