@@ -1,0 +1,177 @@
+#pragma once
+/// \file
+/// The Normal Distributions Transform (NDT) in 3D and 2D, with the semantics
+/// of PCL 1.13's pcl::NormalDistributionsTransform (Magnusson, "The
+/// three-dimensional normal-distributions transform", PhD thesis, Örebro
+/// 2009, Ch. 6):
+///  - the target is cut into cubic (square) cells of side `resolution`; a
+///    cell with at least min_points_per_voxel points becomes a Gaussian
+///    (sample mean and covariance, eigenvalues below
+///    min_covariance_eigenvalue_ratio·λmax raised to it, as PCL's
+///    VoxelGridCovariance);
+///  - the score of a pose is Σ over source points and over every cell whose
+///    mean is within `resolution` of the transformed point of
+///    −d₁·exp(−d₂/2 · x′ᵀΣ⁻¹x′) (eq. 6.9, with d₁, d₂ from the outlier ratio,
+///    eq. 6.8), maximized by Newton's method with analytic gradient and
+///    Hessian (eq. 6.12-6.13, 6.17-6.21);
+///  - each Newton direction is searched with the Moré–Thuente line search
+///    ("Line search algorithms with guaranteed sufficient decrease", ACM
+///    TOMS 1994), step length in [transformation_epsilon/2, step_size];
+///  - the run stops when the step's translation² is ≤ transformation_epsilon
+///    (and, if set, the cosine of its rotation ≥ transformation_rotation_
+///    epsilon), or after max_iterations (then MaxIterations, where PCL would
+///    still say "converged").
+/// 3D parameters are PCL's (x, y, z, roll, pitch, yaw) with R = Rx·Ry·Rz;
+/// 2D parameters are (x, y, phi).
+///
+/// Covariance of the result: (−H)⁻¹, H the score Hessian at the result,
+/// converted to (x, y, z, yaw, pitch, roll) (Pose2: x, y, phi). The NDT score
+/// is a likelihood only up to the scale of d₁, d₂, so read it as a shape,
+/// not as calibrated metres.
+
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "rove/maps/kdtree.h"
+#include "rove/poses/pdf_gaussian2.h"
+#include "rove/poses/pdf_gaussian3.h"
+#include "rove/registration/termination.h"
+
+namespace rove {
+
+/// How the target cells are built (PCL's VoxelGridCovariance settings).
+struct NdtGridOptions {
+  /// Cell side, meters, > 0. Default 1.0 (PCL).
+  double resolution = 1.0;
+  /// Fewest points for a cell to count, ≥ 3. Default 6 (PCL).
+  int min_points_per_voxel = 6;
+  /// Eigenvalues below this fraction of the largest are raised to it, in
+  /// (0, 1]. Default 0.01 (PCL).
+  double min_covariance_eigenvalue_ratio = 0.01;
+};
+
+/// One Gaussian cell of an NDT grid.
+template <int Dim>
+struct NdtCell {
+  Eigen::Matrix<double, Dim, 1> mean;          ///< meters
+  Eigen::Matrix<double, Dim, Dim> inverse_covariance;  ///< m⁻²
+  /// Eigenvector of the smallest eigenvalue; zero for a 3D cell whose points
+  /// are (nearly) collinear, which has no defined surface normal.
+  Eigen::Matrix<double, Dim, 1> normal;
+  int points = 0;                              ///< points in the cell
+};
+
+/// The target of NDT: Gaussian cells and a KD-tree over their means.
+/// Immutable after construction; thread-safe for concurrent registrations.
+template <int Dim>
+class NdtGrid {
+ public:
+  using Point = Eigen::Matrix<double, Dim, 1>;
+  /// An empty grid.
+  NdtGrid();
+  /// Builds the cells from the finite points of `points` (meters).
+  /// Preconditions (InvalidArgument): options valid; the grid index range
+  /// fits in 63 bits.
+  NdtGrid(std::span<const Eigen::Matrix<float, Dim, 1>> points, const NdtGridOptions& options = {});
+  NdtGrid(NdtGrid&&) noexcept;
+  NdtGrid& operator=(NdtGrid&&) noexcept;
+  ~NdtGrid();
+
+  /// The cells (those with enough points and a valid covariance).
+  const std::vector<NdtCell<Dim>>& cells() const noexcept { return cells_; }
+  /// True when there is no cell.
+  bool empty() const noexcept { return cells_.empty(); }
+  /// KD-tree over the cell means (indices refer to cells()).
+  const KdTree<Dim, double>& tree() const noexcept { return tree_; }
+  /// The options it was built with.
+  const NdtGridOptions& options() const noexcept { return options_; }
+
+ private:
+  std::vector<NdtCell<Dim>> cells_;
+  KdTree<Dim, double> tree_;
+  NdtGridOptions options_;
+};
+
+using NdtGrid3D = NdtGrid<3>;
+using NdtGrid2D = NdtGrid<2>;
+extern template class NdtGrid<2>;
+extern template class NdtGrid<3>;
+
+/// Options of ndt_3d / ndt_2d.
+struct NdtOptions {
+  /// Largest Moré–Thuente step (in parameter units), > 0. Default 0.1 (PCL).
+  double step_size = 0.1;
+  /// Converged when a step's translation² ≤ this (m²), ≥ 0. Default 0.1
+  /// (PCL's NDT default; its tutorial uses 0.01).
+  double transformation_epsilon = 0.1;
+  /// If > 0, convergence also needs cos(step rotation) ≥ this. Default 0.
+  double transformation_rotation_epsilon = 0.0;
+  /// Iteration cap, ≥ 1. Default 35 (PCL).
+  int max_iterations = 35;
+  /// Share of outliers in the score model, in (0, 1). Default 0.55 (PCL).
+  double outlier_ratio = 0.55;
+  /// Smallest accepted λmin/λmax of the normalized point-to-plane
+  /// information of the matched cells (their normals at the source points);
+  /// 0 disables. In [0, 1). Default 1e-3.
+  double degeneracy_threshold = 1e-3;
+  /// Threads; results are identical for any value. ≥ 1. Default 1.
+  int num_threads = 1;
+
+  /// Throws InvalidArgument naming the first field out of range.
+  void check() const;
+};
+
+/// Result of ndt_3d.
+struct Ndt3dResult {
+  /// Pose of the source in the target frame, covariance over (x, y, z,
+  /// yaw, pitch, roll).
+  Pose3Gaussian T_target_source;
+  /// The same pose as a 4×4 matrix.
+  Eigen::Matrix4d matrix = Eigen::Matrix4d::Identity();
+  /// Score / number of source points (PCL's getTransformationProbability).
+  double transformation_probability = 0.0;
+  /// Share of source points with at least one cell within `resolution`.
+  double goodness = 0.0;
+  /// Mean squared distance from each such point to its nearest cell mean, m².
+  double fitness = 0.0;
+  /// Newton iterations.
+  int iterations = 0;
+  /// λmin/λmax of the point-to-plane information of the matched cells.
+  double conditioning = 0.0;
+  /// Why the run stopped.
+  RegistrationTermination termination = RegistrationTermination::InvalidInput;
+  /// One line explaining the termination.
+  std::string message;
+};
+
+/// Result of ndt_2d (as Ndt3dResult, in 2D).
+struct Ndt2dResult {
+  Pose2Gaussian T_target_source;
+  double transformation_probability = 0.0;
+  double goodness = 0.0;
+  double fitness = 0.0;
+  int iterations = 0;
+  double conditioning = 0.0;
+  RegistrationTermination termination = RegistrationTermination::InvalidInput;
+  std::string message;
+};
+
+/// 3D NDT of `source` (meters; non-finite points skipped) onto `target`
+/// from `initial_T_target_source`. Preconditions (InvalidArgument):
+/// options.check(), finite rigid initial transform. Empty inputs give
+/// InvalidInput.
+Ndt3dResult ndt_3d(const NdtGrid3D& target, std::span<const Eigen::Vector3f> source,
+                   const Eigen::Isometry3d& initial_T_target_source,
+                   const NdtOptions& options = {});
+
+/// 2D NDT (cells are squares; the outlier constant uses the cell area).
+Ndt2dResult ndt_2d(const NdtGrid2D& target, std::span<const Eigen::Vector2f> source,
+                   const Pose2& initial_T_target_source, const NdtOptions& options = {});
+
+}  // namespace rove

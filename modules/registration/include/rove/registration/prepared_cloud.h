@@ -1,0 +1,102 @@
+#pragma once
+/// \file
+/// PreparedCloud3D: a 3D point set with what 3D registration needs beside
+/// the coordinates — a KD-tree, and on request unit normals (point-to-plane
+/// ICP, degeneracy checks) and regularized covariances (GICP). Build it once
+/// per cloud; a target can serve many registrations (a map), and a source
+/// can be registered against many targets.
+///
+/// Normals and covariances come from the k nearest neighbours of each point
+/// (the point included): the sample covariance C, eigen-decomposed as
+/// C = Σ λᵢ vᵢvᵢᵀ (λ₁ ≤ λ₂ ≤ λ₃). The normal is v₁. The GICP covariance is
+/// the plane-to-plane regularization of Segal, Haehnel, Thrun,
+/// "Generalized-ICP", RSS 2009, Sec. III.B: eigenvalues replaced by
+/// (ε, 1, 1), ε = 1e-3 (as PCL's GICP and small_gicp), so every point is a
+/// thin disc of unit radius along its local surface.
+///
+/// Thread-safety: immutable after construction.
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "rove/maps/kdtree.h"
+#include "rove/maps/point_cloud_concept.h"
+
+namespace rove {
+
+/// What PreparedCloud3D computes.
+struct PrepareOptions {
+  /// Compute unit normals. Default false.
+  bool normals = false;
+  /// Compute GICP covariances. Default false.
+  bool covariances = false;
+  /// Neighbours (point included) for normals and covariances, ≥ 3.
+  /// Default 20 (PCL GICP's k_correspondences).
+  std::size_t neighbors = 20;
+  /// Smallest regularized eigenvalue ε of the GICP covariances, in (0, 1].
+  /// Default 1e-3.
+  double gicp_epsilon = 1e-3;
+  /// Threads for the neighbour searches; results do not depend on it. ≥ 1.
+  int num_threads = 1;
+};
+
+/// A 3D point set prepared for registration. See the file comment.
+class PreparedCloud3D {
+ public:
+  /// An empty cloud.
+  PreparedCloud3D();
+  /// Keeps the finite points of `points` (meters) and computes what
+  /// `options` asks. Preconditions (InvalidArgument): options valid, fewer
+  /// than 2^32 points.
+  explicit PreparedCloud3D(std::vector<Eigen::Vector3f> points, const PrepareOptions& options = {});
+  /// From any PointCloudLike 3D cloud (coordinates converted to float).
+  template <PointCloudLike C>
+    requires(cloud_dim_v<C> == 3)
+  static PreparedCloud3D from_cloud(const C& cloud, const PrepareOptions& options = {}) {
+    std::vector<Eigen::Vector3f> pts;
+    const std::size_t n = point_count(cloud);
+    pts.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) pts.push_back(point_at(cloud, i).template cast<float>());
+    return PreparedCloud3D(std::move(pts), options);
+  }
+
+  PreparedCloud3D(PreparedCloud3D&&) noexcept;
+  PreparedCloud3D& operator=(PreparedCloud3D&&) noexcept;
+  ~PreparedCloud3D();
+
+  /// Number of (finite) points.
+  std::size_t size() const noexcept { return points_.size(); }
+  /// True when there is no point.
+  bool empty() const noexcept { return points_.empty(); }
+  /// The points, meters.
+  const std::vector<Eigen::Vector3f>& points() const noexcept { return points_; }
+  /// KD-tree over points() (indices refer to points()).
+  const KdTree3f& tree() const noexcept { return tree_; }
+  /// Unit normals (empty unless computed). A point whose neighbourhood has
+  /// no extent gets (0, 0, 0).
+  std::span<const Eigen::Vector3f> normals() const noexcept { return normals_; }
+  bool has_normals() const noexcept { return !normals_.empty(); }
+  /// GICP covariances (empty unless computed), m².
+  std::span<const Eigen::Matrix3d> covariances() const noexcept { return covariances_; }
+  bool has_covariances() const noexcept { return !covariances_.empty(); }
+  /// The options it was prepared with.
+  const PrepareOptions& options() const noexcept { return options_; }
+
+ private:
+  std::vector<Eigen::Vector3f> points_;
+  std::vector<Eigen::Vector3f> normals_;
+  std::vector<Eigen::Matrix3d> covariances_;
+  KdTree3f tree_;
+  PrepareOptions options_;
+};
+
+/// Normal (unit, or zero when the neighbourhood has no extent) and GICP
+/// covariance of the neighbourhood of `query` among the k nearest points of
+/// `tree`; either output may be null.
+void local_surface_3d(const KdTree3f& tree, const Eigen::Vector3f& query, std::size_t k,
+                      double gicp_epsilon, Eigen::Vector3f* normal, Eigen::Matrix3d* covariance);
+
+}  // namespace rove

@@ -1,0 +1,504 @@
+#include "rove/registration/icp_2d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+
+#include "rove/core/check.h"
+#include "rove/core/error.h"
+#include "rove/poses/angle.h"
+#include "rove/registration/parallel.h"
+#include "rove/registration/pose_covariance.h"
+#include "rove/registration/rigid_transform.h"
+
+namespace rove {
+
+void Icp2dOptions::check() const {
+  ROVE_CHECK_GE(max_iterations, 1u);
+  ROVE_CHECK_MSG(std::isfinite(min_abs_step_trans) && min_abs_step_trans >= 0,
+                 "minAbsStep_trans must be finite and >= 0, got {}", min_abs_step_trans);
+  ROVE_CHECK_MSG(std::isfinite(min_abs_step_rot) && min_abs_step_rot >= 0,
+                 "minAbsStep_rot must be finite and >= 0, got {}", min_abs_step_rot);
+  ROVE_CHECK_MSG(std::isfinite(threshold_dist) && threshold_dist > 0,
+                 "thresholdDist must be finite and > 0, got {}", threshold_dist);
+  ROVE_CHECK_MSG(std::isfinite(threshold_ang) && threshold_ang >= 0,
+                 "thresholdAng must be finite and >= 0, got {}", threshold_ang);
+  ROVE_CHECK_MSG(alfa >= 0 && alfa < 1, "ALFA must be in [0, 1), got {}", alfa);
+  ROVE_CHECK_MSG(std::isfinite(smallest_threshold_dist) && smallest_threshold_dist > 0,
+                 "smallestThresholdDist must be finite and > 0, got {}", smallest_threshold_dist);
+  ROVE_CHECK_GE(corresponding_points_decimation, 1u);
+  ROVE_CHECK_MSG(std::isfinite(covariance_var_points) && covariance_var_points > 0,
+                 "covariance_varPoints must be finite and > 0, got {}", covariance_var_points);
+  ROVE_CHECK_MSG(std::isfinite(kernel_rho) && kernel_rho > 0,
+                 "kernel_rho must be finite and > 0, got {}", kernel_rho);
+  ROVE_CHECK_MSG(std::isfinite(lm_initial_lambda) && lm_initial_lambda > 0,
+                 "LM_initial_lambda must be finite and > 0, got {}", lm_initial_lambda);
+  ROVE_CHECK_GE(lm_inner_iterations, 1u);
+  ROVE_CHECK_MSG(degeneracy_threshold >= 0 && degeneracy_threshold < 1,
+                 "degeneracy_threshold must be in [0, 1), got {}", degeneracy_threshold);
+  ROVE_CHECK_GE(normal_neighbors, 3u);
+  ROVE_CHECK_GE(num_threads, 1);
+  ransac.check();
+}
+
+Icp2dOptions icp_2d_options_from_ini(const IniFile& ini, std::string_view section,
+                                     std::vector<std::string>* unknown_keys) {
+  Icp2dOptions o;
+  const std::string s(section);
+  o.algorithm = ini.has(s, "ICP_algorithm")
+                    ? ini.get_enum<IcpAlgorithm>(s, "ICP_algorithm",
+                                                 {{"icpClassic", IcpAlgorithm::Classic},
+                                                  {"icpLevenbergMarquardt",
+                                                   IcpAlgorithm::LevenbergMarquardt}})
+                    : o.algorithm;
+  o.covariance_method =
+      ini.has(s, "ICP_covariance_method")
+          ? ini.get_enum<IcpCovarianceMethod>(
+                s, "ICP_covariance_method",
+                {{"icpCovLinealMSE", IcpCovarianceMethod::LinearMse},
+                 {"icpCovFiniteDifferences", IcpCovarianceMethod::FiniteDifferences}})
+          : o.covariance_method;
+  o.metric = ini.has(s, "metric")
+                 ? ini.get_enum<Icp2dMetric>(s, "metric",
+                                             {{"point_to_point", Icp2dMetric::PointToPoint},
+                                              {"point_to_line", Icp2dMetric::PointToLine}})
+                 : o.metric;
+  o.max_iterations = ini.get_or<unsigned>(s, "maxIterations", o.max_iterations);
+  o.min_abs_step_trans = ini.get_or<double>(s, "minAbsStep_trans", o.min_abs_step_trans);
+  o.min_abs_step_rot = ini.get_or<double>(s, "minAbsStep_rot", o.min_abs_step_rot);
+  o.threshold_dist = ini.get_or<double>(s, "thresholdDist", o.threshold_dist);
+  o.threshold_ang = deg_to_rad(ini.get_or<double>(s, "thresholdAng_DEG", rad_to_deg(o.threshold_ang)));
+  o.alfa = ini.get_or<double>(s, "ALFA", o.alfa);
+  o.smallest_threshold_dist =
+      ini.get_or<double>(s, "smallestThresholdDist", o.smallest_threshold_dist);
+  o.only_closest_correspondences =
+      ini.get_or<bool>(s, "onlyClosestCorrespondences", o.only_closest_correspondences);
+  o.only_unique_robust = ini.get_or<bool>(s, "onlyUniqueRobust", o.only_unique_robust);
+  o.corresponding_points_decimation = ini.get_or<unsigned>(
+      s, "corresponding_points_decimation", o.corresponding_points_decimation);
+  o.covariance_var_points = ini.get_or<double>(s, "covariance_varPoints", o.covariance_var_points);
+  o.skip_cov_calculation = ini.get_or<bool>(s, "skip_cov_calculation", o.skip_cov_calculation);
+  o.use_kernel = ini.get_or<bool>(s, "use_kernel", o.use_kernel);
+  o.kernel_rho = ini.get_or<double>(s, "kernel_rho", o.kernel_rho);
+  if (ini.has(s, "robust_kernel")) {
+    const std::string text = ini.get<std::string>(s, "robust_kernel");
+    try {
+      o.robust_kernel = parse_robust_kernel(text, ini.source());
+    } catch (const ParseError& e) {
+      throw ConfigError(ini.source(), s, "robust_kernel", e.problem());
+    }
+  }
+  o.lm_initial_lambda = ini.get_or<double>(s, "LM_initial_lambda", o.lm_initial_lambda);
+  o.lm_inner_iterations = ini.get_or<unsigned>(s, "LM_inner_iterations", o.lm_inner_iterations);
+  o.do_ransac = ini.get_or<bool>(s, "doRANSAC", o.do_ransac);
+  o.ransac.min_set_size = ini.get_or<unsigned>(s, "ransac_minSetSize", o.ransac.min_set_size);
+  o.ransac.max_set_size = ini.get_or<unsigned>(s, "ransac_maxSetSize", o.ransac.max_set_size);
+  o.ransac.n_simulations = ini.get_or<unsigned>(s, "ransac_nSimulations", o.ransac.n_simulations);
+  o.ransac.mahalanobis_threshold = ini.get_or<double>(
+      s, "ransac_mahalanobisDistanceThreshold", o.ransac.mahalanobis_threshold);
+  o.ransac.normalization_std = ini.get_or<double>(s, "normalizationStd", o.ransac.normalization_std);
+  o.ransac.fuse_by_corrs_match =
+      ini.get_or<bool>(s, "ransac_fuseByCorrsMatch", o.ransac.fuse_by_corrs_match);
+  o.ransac.fuse_max_diff_xy = ini.get_or<double>(s, "ransac_fuseMaxDiffXY", o.ransac.fuse_max_diff_xy);
+  o.ransac.fuse_max_diff_phi = deg_to_rad(
+      ini.get_or<double>(s, "ransac_fuseMaxDiffPhi_DEG", rad_to_deg(o.ransac.fuse_max_diff_phi)));
+  o.degeneracy_threshold = ini.get_or<double>(s, "degeneracy_threshold", o.degeneracy_threshold);
+  o.normal_neighbors = ini.get_or<unsigned>(s, "normal_neighbors", o.normal_neighbors);
+  o.num_threads = ini.get_or<int>(s, "num_threads", o.num_threads);
+  // Accepted for MRPT compatibility, without effect: rove differentiates
+  // analytically and has no separate quality measure.
+  (void)ini.get_or<double>(s, "Axy_aprox_derivatives", 0.05);
+  (void)ini.get_or<bool>(s, "skip_quality_calculation", true);
+
+  const auto unread = ini.unread_keys(s);
+  if (unknown_keys) {
+    *unknown_keys = unread;
+  } else if (!unread.empty()) {
+    throw ConfigError(ini.source(), s, unread.front(), "unknown ICP option");
+  }
+  try {
+    o.check();
+  } catch (const InvalidArgument& e) {
+    throw ConfigError(ini.source(), s, "", e.message());
+  }
+  return o;
+}
+
+namespace {
+
+struct Pair2 {
+  std::uint32_t source = 0;  // index into the source span
+  std::uint32_t target = 0;  // index into target.points()
+  double sq_dist = 0;        // squared distance at pairing, m²
+};
+
+struct Matching {
+  std::vector<Pair2> pairs;
+  std::size_t sources_with_pair = 0;
+  std::size_t sources_considered = 0;
+};
+
+/// MRPT's CPointsMap::determineMatching2D / COccupancyGridMap2D matching,
+/// over a KD-tree (see the header comment for the gate).
+void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, const Pose2& T,
+           double thr, double thr_ang, std::size_t offset, std::size_t decimation,
+           bool only_closest, bool unique, int threads, Matching& out) {
+  out.pairs.clear();
+  out.sources_with_pair = 0;
+  const std::size_t n = source.size();
+  const std::size_t n_sel = offset < n ? (n - offset + decimation - 1) / decimation : 0;
+  out.sources_considered = n_sel;
+  const double c = std::cos(T.phi()), s = std::sin(T.phi());
+  const Eigen::Vector2d pivot = T.translation();
+  struct Acc {
+    std::vector<Pair2> pairs;
+    std::size_t with_pair = 0;
+    Acc& operator+=(const Acc& o) {
+      pairs.insert(pairs.end(), o.pairs.begin(), o.pairs.end());
+      with_pair += o.with_pair;
+      return *this;
+    }
+  };
+  Acc acc = detail::parallel_reduce(n_sel, threads, Acc{}, [&](std::size_t b, std::size_t e, Acc& a) {
+    std::vector<Neighbor<double>> nbrs;
+    for (std::size_t k = b; k < e; ++k) {
+      const std::size_t i = offset + k * decimation;
+      const Eigen::Vector2d& p = source[i];
+      if (!p.allFinite()) continue;
+      const Eigen::Vector2d q(c * p.x() - s * p.y() + pivot.x(), s * p.x() + c * p.y() + pivot.y());
+      const double gate = thr_ang * (q - pivot).norm() + thr;
+      if (only_closest) {
+        const auto nn = target.tree().nearest(q);
+        if (nn && nn->sq_distance < gate * gate) {
+          a.pairs.push_back({static_cast<std::uint32_t>(i), nn->index, nn->sq_distance});
+          ++a.with_pair;
+        }
+      } else {
+        target.tree().radius(q, gate, nbrs, false);
+        bool any = false;
+        for (const auto& nb : nbrs) {
+          if (nb.sq_distance < gate * gate) {
+            a.pairs.push_back({static_cast<std::uint32_t>(i), nb.index, nb.sq_distance});
+            any = true;
+          }
+        }
+        if (any) ++a.with_pair;
+      }
+    }
+  });
+  out.sources_with_pair = acc.with_pair;
+  out.pairs = std::move(acc.pairs);
+  if (unique && !out.pairs.empty()) {
+    // Each target point keeps its closest pair (ties: the lower source index).
+    std::sort(out.pairs.begin(), out.pairs.end(), [](const Pair2& a, const Pair2& b) {
+      if (a.target != b.target) return a.target < b.target;
+      if (a.sq_dist != b.sq_dist) return a.sq_dist < b.sq_dist;
+      return a.source < b.source;
+    });
+    std::size_t w = 0;
+    for (std::size_t r = 0; r < out.pairs.size(); ++r)
+      if (r == 0 || out.pairs[r].target != out.pairs[r - 1].target) out.pairs[w++] = out.pairs[r];
+    out.pairs.resize(w);
+    std::sort(out.pairs.begin(), out.pairs.end(),
+              [](const Pair2& a, const Pair2& b) { return a.source < b.source; });
+  }
+}
+
+/// Residual Jacobian row(s) of one pair with respect to (x, y, phi) at T:
+/// point-to-point: 2×3 [I | perp(R·s)]; point-to-line: nᵀ times that.
+struct Normal3 {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  double cost = 0;
+  Normal3& operator+=(const Normal3& o) {
+    H += o.H;
+    g += o.g;
+    cost += o.cost;
+    return *this;
+  }
+};
+
+/// Accumulates Σ w JᵀJ, Σ w Jᵀr and Σ ρ(r²) over the pairs at pose T.
+template <typename Kernel>
+Normal3 accumulate(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+                   const std::vector<Pair2>& pairs, const Pose2& T, Icp2dMetric metric,
+                   const Kernel& kernel, bool weighted, int threads) {
+  const double c = std::cos(T.phi()), s = std::sin(T.phi());
+  return detail::parallel_reduce(pairs.size(), threads, Normal3{},
+                                 [&](std::size_t b, std::size_t e, Normal3& a) {
+    for (std::size_t k = b; k < e; ++k) {
+      const Pair2& pr = pairs[k];
+      const Eigen::Vector2d& p = source[pr.source];
+      const Eigen::Vector2d rs(c * p.x() - s * p.y(), s * p.x() + c * p.y());
+      const Eigen::Vector2d r2 = rs + T.translation() - target.points()[pr.target];
+      Eigen::Matrix<double, 2, 3> J;
+      J << 1, 0, -rs.y(), 0, 1, rs.x();
+      if (metric == Icp2dMetric::PointToLine) {
+        const Eigen::Vector2d& nrm = target.normals()[pr.target];
+        const Eigen::RowVector3d Jl = nrm.transpose() * J;
+        const double r = nrm.dot(r2);
+        const auto kv = kernel.evaluate(r * r);
+        const double w = weighted ? kv.d1 : 1.0;
+        a.H += w * Jl.transpose() * Jl;
+        a.g += w * Jl.transpose() * r;
+        a.cost += kv.rho;
+      } else {
+        const auto kv = kernel.evaluate(r2.squaredNorm());
+        const double w = weighted ? kv.d1 : 1.0;
+        a.H += w * J.transpose() * J;
+        a.g += w * J.transpose() * r2;
+        a.cost += kv.rho;
+      }
+    }
+  });
+}
+
+Pose2 apply_step(const Pose2& T, const Eigen::Vector3d& dx) {
+  return Pose2(T.x() + dx(0), T.y() + dx(1), wrap_to_pi(T.phi() + dx(2)));
+}
+
+RobustKernel kernel_of(const Icp2dOptions& o) {
+  if (o.robust_kernel) return *o.robust_kernel;
+  if (o.use_kernel) return RobustKernel(RobustKernelType::Cauchy, o.kernel_rho);
+  return RobustKernel();
+}
+
+/// Minimizes ½Σρ over fixed pairs with Levenberg–Marquardt (Nielsen's
+/// damping update, Madsen–Nielsen–Tingleff 2004, eq. 3.16 / Sec. 3.2).
+Pose2 lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+                const std::vector<Pair2>& pairs, Pose2 T, const Icp2dOptions& o) {
+  const RobustKernel kernel = kernel_of(o);
+  return kernel.visit([&](const auto& k) {
+    Normal3 ne = accumulate(target, source, pairs, T, o.metric, k, true, o.num_threads);
+    double mu = o.lm_initial_lambda * std::max(ne.H.diagonal().maxCoeff(), 1e-12);
+    double nu = 2;
+    for (unsigned it = 0; it < o.lm_inner_iterations; ++it) {
+      const Eigen::Matrix3d A = ne.H + mu * Eigen::Matrix3d::Identity();
+      const Eigen::Vector3d h = A.ldlt().solve(-ne.g);
+      if (!h.allFinite()) break;
+      const Pose2 Tn = apply_step(T, h);
+      const Normal3 nn = accumulate(target, source, pairs, Tn, o.metric, k, true, o.num_threads);
+      const double predicted = -(h.dot(ne.g) + 0.5 * h.dot(ne.H * h));
+      const double actual = 0.5 * (ne.cost - nn.cost);
+      if (actual > 0 && predicted > 0) {
+        const double rho = actual / predicted;
+        mu *= std::max(1.0 / 3.0, 1.0 - std::pow(2 * rho - 1, 3));
+        nu = 2;
+        T = Tn;
+        ne = nn;
+        if (h.head<2>().cwiseAbs().maxCoeff() <= o.min_abs_step_trans &&
+            std::abs(h(2)) <= o.min_abs_step_rot)
+          break;
+      } else {
+        mu *= nu;
+        nu *= 2;
+      }
+    }
+    return T;
+  });
+}
+
+}  // namespace
+
+Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+                   const Pose2Gaussian& initial_T_target_source, const Icp2dOptions& options) {
+  return icp_2d(target, source, initial_T_target_source.mean(), options);
+}
+
+Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+                   const Pose2& initial, const Icp2dOptions& o) {
+  o.check();
+  ROVE_CHECK_MSG(o.metric != Icp2dMetric::PointToLine || target.has_normals(),
+                 "the point-to-line metric needs target normals: build the IcpTarget2D with "
+                 "normal_neighbors > 0");
+  ROVE_CHECK_MSG(source.size() < std::numeric_limits<std::uint32_t>::max(),
+                 "at most 2^32-1 source points, got {}", source.size());
+  Icp2dResult res;
+  res.T_target_source = Pose2Gaussian(initial);
+  res.conditioning = std::numeric_limits<double>::quiet_NaN();
+  const std::size_t finite =
+      std::count_if(source.begin(), source.end(), [](const auto& p) { return p.allFinite(); });
+  if (target.empty() || finite == 0) {
+    res.termination = RegistrationTermination::InvalidInput;
+    res.message = target.empty() ? "the target has no point" : "the source has no finite point";
+    return res;
+  }
+  const std::size_t min_pairs = o.metric == Icp2dMetric::PointToLine ? 3 : 2;
+  const std::size_t decimation = o.corresponding_points_decimation;
+
+  Pose2 pose = initial, last = initial;
+  double thr = o.threshold_dist, thr_ang = o.threshold_ang;
+  std::size_t offset = 0;
+  unsigned iterations = 0;
+  bool keep_approaching = true;
+  bool too_few = false, diverged = false, settled = false;
+  Matching m;
+  do {
+    match(target, source, pose, thr, thr_ang, offset % std::max<std::size_t>(decimation, 1),
+          decimation, o.only_closest_correspondences, o.only_unique_robust, o.num_threads, m);
+    if (m.pairs.size() < min_pairs) {
+      keep_approaching = false;
+      too_few = true;
+      ++iterations;
+      break;
+    }
+    Pose2 next = pose;
+    if (o.algorithm == IcpAlgorithm::Classic && o.metric == Icp2dMetric::PointToPoint) {
+      std::vector<Eigen::Vector2d> tp(m.pairs.size()), sp(m.pairs.size());
+      for (std::size_t k = 0; k < m.pairs.size(); ++k) {
+        tp[k] = target.points()[m.pairs[k].target];
+        sp[k] = source[m.pairs[k].source];
+      }
+      const RigidFit2Result fit = fit_rigid_2d(tp, sp);
+      next = fit.T_target_source.mean();
+    } else if (o.algorithm == IcpAlgorithm::Classic) {
+      const Normal3 ne = accumulate(target, source, m.pairs, pose, o.metric, TrivialKernel{},
+                                    false, o.num_threads);
+      const Eigen::Vector3d h = ne.H.ldlt().solve(-ne.g);
+      if (h.allFinite()) next = apply_step(pose, h);
+    } else {
+      next = lm_update(target, source, m.pairs, pose, o);
+    }
+    if (!std::isfinite(next.x()) || !std::isfinite(next.y()) || !std::isfinite(next.phi()) ||
+        (next.translation() - pose.translation()).norm() > 1e6) {
+      diverged = true;
+      ++iterations;
+      break;
+    }
+    pose = next;
+    keep_approaching = true;
+    if (!(std::abs(last.x() - pose.x()) > o.min_abs_step_trans ||
+          std::abs(last.y() - pose.y()) > o.min_abs_step_trans ||
+          std::abs(wrap_to_pi(last.phi() - pose.phi())) > o.min_abs_step_rot)) {
+      thr *= o.alfa;
+      thr_ang *= o.alfa;
+      if (thr < o.smallest_threshold_dist) {
+        keep_approaching = false;
+        if (iterations < o.max_iterations) settled = true;
+      }
+      if (++offset >= decimation) offset = 0;
+    }
+    last = pose;
+    ++iterations;
+    if (iterations >= o.max_iterations && thr > o.smallest_threshold_dist) thr *= o.alfa;
+  } while ((keep_approaching && iterations < o.max_iterations) ||
+           (iterations >= o.max_iterations && thr > o.smallest_threshold_dist));
+
+  res.iterations = iterations;
+  res.final_threshold_dist = thr;
+  res.correspondences = m.pairs.size();
+  res.goodness = m.sources_considered == 0
+                     ? 0.0
+                     : std::min(1.0, static_cast<double>(m.sources_with_pair) /
+                                         static_cast<double>(m.sources_considered));
+  double sse = 0;
+  for (const auto& p : m.pairs) sse += p.sq_dist;
+  res.fitness = m.pairs.empty() ? 0.0 : sse / static_cast<double>(m.pairs.size());
+
+  if (diverged) {
+    res.T_target_source = Pose2Gaussian(pose);
+    res.termination = RegistrationTermination::Diverged;
+    res.message = fmt::format("the pose update became non-finite or unbounded at iteration {}",
+                              iterations);
+    return res;
+  }
+  if (too_few) {
+    res.T_target_source = Pose2Gaussian(pose);
+    res.termination = RegistrationTermination::TooFewCorrespondences;
+    res.message = fmt::format("{} pair(s) at iteration {} (gate {:.3g} m); {} needed",
+                              m.pairs.size(), iterations, thr, min_pairs);
+    return res;
+  }
+
+  // Covariance: σ²·H⁻¹ of the final pairs (header comment).
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  if (!o.skip_cov_calculation) {
+    const bool weighted = o.covariance_method == IcpCovarianceMethod::FiniteDifferences;
+    const Normal3 ne = kernel_of(o).visit([&](const auto& k) {
+      return accumulate(target, source, m.pairs, pose, o.metric, k, weighted, o.num_threads);
+    });
+    cov = covariance_from_information<3>(ne.H, o.covariance_var_points, 1e-12);
+  }
+  res.T_target_source = Pose2Gaussian(detail::kUnchecked, pose, cov);
+
+  // Degeneracy: point-to-line information about the pairs' centroid.
+  bool degenerate = false;
+  if (o.degeneracy_threshold > 0) {
+    const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
+    std::vector<Eigen::Vector2d> q(m.pairs.size());
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    for (std::size_t k = 0; k < m.pairs.size(); ++k) {
+      const Eigen::Vector2d& p = source[m.pairs[k].source];
+      q[k] = Eigen::Vector2d(c * p.x() - s * p.y(), s * p.x() + c * p.y()) + pose.translation();
+      centroid += q[k];
+    }
+    centroid /= static_cast<double>(q.size());
+    double r2 = 0;
+    for (const auto& x : q) r2 += (x - centroid).squaredNorm();
+    const double L = std::sqrt(r2 / static_cast<double>(q.size()));
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    std::vector<Neighbor<double>> nn(o.normal_neighbors);
+    for (std::size_t k = 0; k < m.pairs.size(); ++k) {
+      Eigen::Vector2d nrm;
+      if (target.has_normals()) {
+        nrm = target.normals()[m.pairs[k].target];
+      } else {
+        const Eigen::Vector2d& tp = target.points()[m.pairs[k].target];
+        const std::size_t cnt = target.tree().knn(tp, o.normal_neighbors, nn);
+        Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+        for (std::size_t j = 0; j < cnt; ++j) mean += target.points()[nn[j].index];
+        mean /= static_cast<double>(std::max<std::size_t>(cnt, 1));
+        Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
+        for (std::size_t j = 0; j < cnt; ++j) {
+          const Eigen::Vector2d d = target.points()[nn[j].index] - mean;
+          C += d * d.transpose();
+        }
+        nrm = C.trace() > 0 ? Eigen::Vector2d(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(C)
+                                                  .eigenvectors()
+                                                  .col(0))
+                            : Eigen::Vector2d::Zero();
+      }
+      const Eigen::Vector2d d = q[k] - centroid;
+      const double rot = L > 0 ? (nrm.y() * d.x() - nrm.x() * d.y()) / L : 0.0;
+      const Eigen::Vector3d j(nrm.x(), nrm.y(), rot);
+      A += j * j.transpose();
+    }
+    const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(A).eigenvalues();
+    res.conditioning = ev(2) > 0 ? std::max(ev(0), 0.0) / ev(2) : 0.0;
+    degenerate = res.conditioning < o.degeneracy_threshold;
+  }
+
+  if (o.do_ransac) {
+    std::vector<Eigen::Vector2d> tp(m.pairs.size()), sp(m.pairs.size());
+    for (std::size_t k = 0; k < m.pairs.size(); ++k) {
+      tp[k] = target.points()[m.pairs[k].target];
+      sp[k] = source[m.pairs[k].source];
+    }
+    const RansacRigid2dResult rr = ransac_rigid_2d(tp, sp, o.ransac);
+    res.sog = rr.sog;
+  }
+
+  if (degenerate) {
+    res.termination = RegistrationTermination::Degenerate;
+    res.message = fmt::format(
+        "the matched geometry leaves a direction unconstrained (conditioning {:.3g} < {:.3g}, "
+        "e.g. a corridor)",
+        res.conditioning, o.degeneracy_threshold);
+  } else if (!settled) {
+    res.termination = RegistrationTermination::MaxIterations;
+    res.message = fmt::format("maxIterations ({}) reached before the gate settled; {} iterations "
+                              "in all, final gate {:.3g} m",
+                              o.max_iterations, iterations, thr);
+  } else {
+    res.termination = RegistrationTermination::Converged;
+    res.message = fmt::format("converged in {} iterations, {} pairs, goodness {:.3f}", iterations,
+                              res.correspondences, res.goodness);
+  }
+  return res;
+}
+
+}  // namespace rove

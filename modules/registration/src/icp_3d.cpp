@@ -1,0 +1,301 @@
+#include "rove/registration/icp_3d.h"
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+
+#include "rove/core/check.h"
+#include "rove/math/se3.h"
+#include "rove/registration/degeneracy.h"
+#include "rove/registration/parallel.h"
+#include "rove/registration/pose_covariance.h"
+
+namespace rove {
+
+void Icp3dOptions::check() const {
+  ROVE_CHECK_MSG(std::isfinite(max_correspondence_distance) && max_correspondence_distance > 0,
+                 "max_correspondence_distance must be finite and > 0, got {}",
+                 max_correspondence_distance);
+  ROVE_CHECK_GE(max_iterations, 1);
+  ROVE_CHECK_MSG(std::isfinite(rotation_epsilon) && rotation_epsilon >= 0,
+                 "rotation_epsilon must be finite and >= 0, got {}", rotation_epsilon);
+  ROVE_CHECK_MSG(std::isfinite(translation_epsilon) && translation_epsilon >= 0,
+                 "translation_epsilon must be finite and >= 0, got {}", translation_epsilon);
+  ROVE_CHECK_MSG(std::isfinite(lm_initial_lambda) && lm_initial_lambda >= 0,
+                 "lm_initial_lambda must be finite and >= 0, got {}", lm_initial_lambda);
+  ROVE_CHECK_MSG(std::isfinite(point_variance) && point_variance > 0,
+                 "point_variance must be finite and > 0, got {}", point_variance);
+  ROVE_CHECK_GE(min_correspondences, std::size_t{6});
+  ROVE_CHECK_MSG(degeneracy_threshold >= 0 && degeneracy_threshold < 1,
+                 "degeneracy_threshold must be in [0, 1), got {}", degeneracy_threshold);
+  ROVE_CHECK_GE(normal_neighbors, std::size_t{3});
+  ROVE_CHECK_GE(num_threads, 1);
+}
+
+namespace {
+
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+struct Pair3 {
+  std::uint32_t source;
+  std::uint32_t target;
+};
+
+struct Linear6 {
+  Mat6 H = Mat6::Zero();
+  Vec6 b = Vec6::Zero();
+  double cost = 0;     // Σ ρ(s)
+  double sq_dist = 0;  // Σ ‖q‖²
+  Linear6& operator+=(const Linear6& o) {
+    H += o.H;
+    b += o.b;
+    cost += o.cost;
+    sq_dist += o.sq_dist;
+    return *this;
+  }
+};
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+/// Linearizes (or, with `cost_only`, evaluates) the cost of the pairs at T.
+template <typename Kernel>
+Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
+                  const std::vector<Pair3>& pairs, const Eigen::Isometry3d& T,
+                  Icp3dMethod method, const Kernel& kernel, bool cost_only, int threads) {
+  const Eigen::Matrix3d R = T.linear();
+  const Eigen::Vector3d t = T.translation();
+  return detail::parallel_reduce(pairs.size(), threads, Linear6{},
+                                 [&](std::size_t b, std::size_t e, Linear6& a) {
+    for (std::size_t k = b; k < e; ++k) {
+      const Pair3& pr = pairs[k];
+      const Eigen::Vector3d s = source.points()[pr.source].cast<double>();
+      const Eigen::Vector3d q = R * s + t - target.points()[pr.target].cast<double>();
+      a.sq_dist += q.squaredNorm();
+      Eigen::Matrix<double, 3, 6> J;
+      if (!cost_only) {
+        J.leftCols<3>() = R;
+        J.rightCols<3>() = -R * skew(s);
+      }
+      switch (method) {
+        case Icp3dMethod::PointToPoint: {
+          const auto kv = kernel.evaluate(q.squaredNorm());
+          a.cost += kv.rho;
+          if (!cost_only) {
+            a.H += kv.d1 * J.transpose() * J;
+            a.b += kv.d1 * J.transpose() * q;
+          }
+          break;
+        }
+        case Icp3dMethod::PointToPlane: {
+          const Eigen::Vector3d n = target.normals()[pr.target].cast<double>();
+          const double r = n.dot(q);
+          const auto kv = kernel.evaluate(r * r);
+          a.cost += kv.rho;
+          if (!cost_only) {
+            const Eigen::Matrix<double, 1, 6> Jn = n.transpose() * J;
+            a.H += kv.d1 * Jn.transpose() * Jn;
+            a.b += kv.d1 * Jn.transpose() * r;
+          }
+          break;
+        }
+        case Icp3dMethod::Gicp: {
+          const Eigen::Matrix3d C =
+              target.covariances()[pr.target] + R * source.covariances()[pr.source] * R.transpose();
+          const Eigen::Matrix3d M = C.inverse();
+          const Eigen::Vector3d Mq = M * q;
+          const auto kv = kernel.evaluate(std::max(0.0, q.dot(Mq)));
+          a.cost += kv.rho;
+          if (!cost_only) {
+            const Eigen::Matrix<double, 6, 3> JtM = J.transpose() * M;
+            a.H += kv.d1 * JtM * J;
+            a.b += kv.d1 * J.transpose() * Mq;
+          }
+          break;
+        }
+      }
+    }
+  });
+}
+
+void find_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
+                const Eigen::Isometry3d& T, double max_dist, int threads,
+                std::vector<std::int64_t>& slot, std::vector<Pair3>& pairs) {
+  slot.assign(source.size(), -1);
+  const Eigen::Matrix3f R = T.linear().cast<float>();
+  const Eigen::Vector3f t = T.translation().cast<float>();
+  const float gate = static_cast<float>(max_dist);
+  detail::parallel_for(source.size(), threads, [&](std::size_t i) {
+    const Eigen::Vector3f q = R * source.points()[i] + t;
+    if (const auto nn = target.tree().nearest(q, gate)) slot[i] = nn->index;
+  });
+  pairs.clear();
+  for (std::size_t i = 0; i < slot.size(); ++i)
+    if (slot[i] >= 0)
+      pairs.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(slot[i])});
+}
+
+}  // namespace
+
+Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
+                   const Eigen::Isometry3d& initial, const Icp3dOptions& o) {
+  o.check();
+  ROVE_CHECK_FINITE(initial.matrix());
+  ROVE_CHECK_MSG((initial.linear().transpose() * initial.linear() - Eigen::Matrix3d::Identity())
+                         .cwiseAbs()
+                         .maxCoeff() < 1e-6,
+                 "the initial transform is not rigid");
+  ROVE_CHECK_MSG(o.method != Icp3dMethod::PointToPlane || target.has_normals() || target.empty(),
+                 "point-to-plane ICP needs target normals (PrepareOptions::normals)");
+  ROVE_CHECK_MSG(o.method != Icp3dMethod::Gicp ||
+                     ((target.has_covariances() || target.empty()) &&
+                      (source.has_covariances() || source.empty())),
+                 "GICP needs covariances on both clouds (PrepareOptions::covariances)");
+  Icp3dResult res;
+  res.conditioning = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Isometry3d T = initial;
+  auto finish_pose = [&](const Mat6* H, double scale) {
+    res.matrix = T.matrix();
+    const Pose3 mean(T.linear(), T.translation(), 1e-6);
+    if (!H) {
+      res.T_target_source = Pose3Gaussian(mean);
+      return;
+    }
+    res.information = *H;
+    const Mat6 C_right = covariance_from_information<6>(*H, scale, 1e-12);
+    Mat6 right_to_left = Mat6::Zero();  // T·exp(δ) ≈ (exp([Rω]ₓ)R, t + Rρ)
+    right_to_left.topLeftCorner<3, 3>() = T.linear();
+    right_to_left.bottomRightCorner<3, 3>() = T.linear();
+    const Mat6 J = ypr_jacobian_wrt_left_tangent(mean) * right_to_left;
+    Mat6 C = J * C_right * J.transpose();
+    C = 0.5 * (C + C.transpose());
+    res.T_target_source = Pose3Gaussian(detail::kUnchecked, mean, C);
+  };
+  if (target.empty() || source.empty()) {
+    finish_pose(nullptr, 1);
+    res.termination = RegistrationTermination::InvalidInput;
+    res.message = target.empty() ? "the target cloud has no finite point"
+                                 : "the source cloud has no finite point";
+    return res;
+  }
+
+  std::vector<std::int64_t> slot;
+  std::vector<Pair3> pairs;
+  bool converged = false, diverged = false, too_few = false;
+  Linear6 lin;
+  o.kernel.visit([&](const auto& kernel) {
+    double lambda = o.lm_initial_lambda;
+    for (int it = 0; it < o.max_iterations; ++it) {
+      find_pairs(target, source, T, o.max_correspondence_distance, o.num_threads, slot, pairs);
+      res.iterations = it + 1;
+      if (pairs.size() < o.min_correspondences) {
+        too_few = true;
+        return;
+      }
+      lin = linearize(target, source, pairs, T, o.method, kernel, false, o.num_threads);
+      // Levenberg–Marquardt on the fixed pairs: raise the damping until the
+      // cost decreases (at most 10 tries; a zero step means converged).
+      Vec6 delta = Vec6::Zero();
+      Eigen::Isometry3d T_new = T;
+      bool accepted = false;
+      for (int tries = 0; tries < 10; ++tries) {
+        const Mat6 A = lin.H + lambda * Mat6::Identity();
+        delta = A.ldlt().solve(-lin.b);
+        if (!delta.allFinite()) break;
+        T_new = T * Eigen::Isometry3d(SE3d::exp(delta).matrix());
+        const Linear6 trial = linearize(target, source, pairs, T_new, o.method, kernel, true, 1);
+        if (trial.cost <= lin.cost) {
+          lambda = std::max(lambda / 10.0, o.lm_initial_lambda);
+          accepted = true;
+          break;
+        }
+        lambda = std::max(lambda * 10.0, 1e-9);
+      }
+      if (!delta.allFinite() || !T_new.matrix().allFinite()) {
+        diverged = true;
+        return;
+      }
+      if (!accepted) {
+        // No decrease even with heavy damping: a minimum of the current pairing.
+        converged = true;
+        return;
+      }
+      T = T_new;
+      if (delta.tail<3>().norm() < o.rotation_epsilon &&
+          delta.head<3>().norm() < o.translation_epsilon) {
+        converged = true;
+        return;
+      }
+    }
+  });
+
+  // Final statistics at T with the last pairing.
+  res.correspondences = pairs.size();
+  res.goodness = static_cast<double>(pairs.size()) / static_cast<double>(source.size());
+  if (diverged) {
+    finish_pose(nullptr, 1);
+    res.termination = RegistrationTermination::Diverged;
+    res.message = fmt::format("the step became non-finite at iteration {}", res.iterations);
+    return res;
+  }
+  if (too_few) {
+    finish_pose(nullptr, 1);
+    res.termination = RegistrationTermination::TooFewCorrespondences;
+    res.message = fmt::format("{} pair(s) within {} m at iteration {}; {} needed", pairs.size(),
+                              o.max_correspondence_distance, res.iterations,
+                              o.min_correspondences);
+    return res;
+  }
+  const Linear6 fin = o.kernel.visit([&](const auto& kernel) {
+    return linearize(target, source, pairs, T, o.method, kernel, false, o.num_threads);
+  });
+  res.fitness = fin.sq_dist / static_cast<double>(pairs.size());
+  res.final_cost = 0.5 * fin.cost;
+  finish_pose(&fin.H, o.method == Icp3dMethod::Gicp ? 1.0 : o.point_variance);
+
+  bool degenerate = false;
+  if (o.degeneracy_threshold > 0) {
+    std::vector<Eigen::Vector3d> q(pairs.size()), n(pairs.size());
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      q[k] = T * source.points()[pairs[k].source].cast<double>();
+      const std::uint32_t ti = pairs[k].target;
+      if (target.has_normals()) {
+        n[k] = target.normals()[ti].cast<double>();
+      } else if (target.has_covariances()) {
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(target.covariances()[ti]);
+        n[k] = eig.eigenvectors().col(0);
+      } else {
+        Eigen::Vector3f nf;
+        local_surface_3d(target.tree(), target.points()[ti], o.normal_neighbors, 1e-3, &nf, nullptr);
+        n[k] = nf.cast<double>();
+      }
+    }
+    res.conditioning = point_to_plane_conditioning(q, n);
+    degenerate = res.conditioning < o.degeneracy_threshold;
+  }
+
+  if (degenerate) {
+    res.termination = RegistrationTermination::Degenerate;
+    res.message = fmt::format(
+        "the matched geometry leaves a direction unconstrained (conditioning {:.3g} < {:.3g}, "
+        "e.g. a single plane)",
+        res.conditioning, o.degeneracy_threshold);
+  } else if (converged) {
+    res.termination = RegistrationTermination::Converged;
+    res.message = fmt::format("converged in {} iterations, {} pairs, fitness {:.4g} m²",
+                              res.iterations, res.correspondences, res.fitness);
+  } else {
+    res.termination = RegistrationTermination::MaxIterations;
+    res.message = fmt::format("{} iterations without meeting the step tolerances", res.iterations);
+  }
+  return res;
+}
+
+}  // namespace rove

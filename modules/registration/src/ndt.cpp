@@ -1,0 +1,633 @@
+#include "rove/registration/ndt.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <fmt/format.h>
+
+#include "rove/core/check.h"
+#include "rove/poses/angle.h"
+#include "rove/registration/degeneracy.h"
+#include "rove/registration/parallel.h"
+#include "rove/registration/pose_covariance.h"
+
+namespace rove {
+
+// ---------------------------------------------------------------- the grid
+
+template <int Dim>
+NdtGrid<Dim>::NdtGrid() = default;
+template <int Dim>
+NdtGrid<Dim>::NdtGrid(NdtGrid&&) noexcept = default;
+template <int Dim>
+NdtGrid<Dim>& NdtGrid<Dim>::operator=(NdtGrid&&) noexcept = default;
+template <int Dim>
+NdtGrid<Dim>::~NdtGrid() = default;
+
+template <int Dim>
+NdtGrid<Dim>::NdtGrid(std::span<const Eigen::Matrix<float, Dim, 1>> points,
+                      const NdtGridOptions& options)
+    : options_(options) {
+  ROVE_CHECK_MSG(std::isfinite(options.resolution) && options.resolution > 0,
+                 "resolution must be finite and > 0, got {}", options.resolution);
+  ROVE_CHECK_GE(options.min_points_per_voxel, 3);
+  ROVE_CHECK_MSG(options.min_covariance_eigenvalue_ratio > 0 &&
+                     options.min_covariance_eigenvalue_ratio <= 1,
+                 "min_covariance_eigenvalue_ratio must be in (0, 1], got {}",
+                 options.min_covariance_eigenvalue_ratio);
+  using VecD = Eigen::Matrix<double, Dim, 1>;
+  using MatD = Eigen::Matrix<double, Dim, Dim>;
+  struct Acc {
+    VecD sum = VecD::Zero();
+    MatD sum_sq = MatD::Zero();
+    int n = 0;
+  };
+  // Cell index as PCL: floor(p · (1/resolution)) in float.
+  const float inv = static_cast<float>(1.0 / options.resolution);
+  std::unordered_map<std::uint64_t, Acc> acc;
+  acc.reserve(points.size() / 8 + 16);
+  constexpr std::int64_t kRange = std::int64_t{1} << 20;  // ±2^20 cells per axis
+  for (const auto& p : points) {
+    if (!p.allFinite()) continue;
+    std::uint64_t key = 0;
+    bool in_range = true;
+    for (int d = 0; d < Dim; ++d) {
+      const float f = std::floor(p[d] * inv);
+      if (!(f > -static_cast<float>(kRange) && f < static_cast<float>(kRange))) in_range = false;
+      const auto i = static_cast<std::int64_t>(f) + kRange;
+      key = (key << 21) | static_cast<std::uint64_t>(i & ((std::int64_t{1} << 21) - 1));
+    }
+    ROVE_CHECK_MSG(in_range,
+                   "a point at ({}, {}) is more than 2^20 cells from the origin at resolution {}",
+                   p[0], p[1], options.resolution);
+    Acc& a = acc[key];
+    const VecD x = p.template cast<double>();
+    a.sum += x;
+    a.sum_sq += x * x.transpose();
+    ++a.n;
+  }
+  // Deterministic cell order: by key.
+  std::vector<std::pair<std::uint64_t, const Acc*>> order;
+  order.reserve(acc.size());
+  for (const auto& [k, a] : acc) order.emplace_back(k, &a);
+  std::sort(order.begin(), order.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<VecD> means;
+  for (const auto& [key, a] : order) {
+    if (a->n < options.min_points_per_voxel) continue;
+    NdtCell<Dim> c;
+    c.points = a->n;
+    c.mean = a->sum / a->n;
+    // Sample covariance (n − 1), as PCL's VoxelGridCovariance.
+    MatD cov = (a->sum_sq - a->sum * c.mean.transpose()) / (a->n - 1.0);
+    Eigen::SelfAdjointEigenSolver<MatD> eig(cov);
+    VecD ev = eig.eigenvalues();
+    if (!(ev(Dim - 1) > 0) || ev(0) < -Eigen::NumTraits<double>::dummy_precision()) continue;
+    const double floor = options.min_covariance_eigenvalue_ratio * ev(Dim - 1);
+    // A cell whose points lie on a line (3D: second eigenvalue below the
+    // floor too) has no defined surface normal.
+    const bool has_normal = Dim == 2 || ev(1) >= floor;
+    for (int d = 0; d < Dim - 1; ++d) ev(d) = std::max(ev(d), floor);
+    cov = eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose();
+    c.inverse_covariance = eig.eigenvectors() * ev.cwiseInverse().asDiagonal() *
+                           eig.eigenvectors().transpose();
+    if (!c.inverse_covariance.allFinite()) continue;
+    c.normal = has_normal ? VecD(eig.eigenvectors().col(0)) : VecD::Zero();
+    cells_.push_back(c);
+    means.push_back(c.mean);
+  }
+  tree_ = KdTree<Dim, double>(std::move(means));
+}
+
+template class NdtGrid<2>;
+template class NdtGrid<3>;
+
+void NdtOptions::check() const {
+  ROVE_CHECK_MSG(std::isfinite(step_size) && step_size > 0, "step_size must be finite and > 0, got {}",
+                 step_size);
+  ROVE_CHECK_MSG(std::isfinite(transformation_epsilon) && transformation_epsilon >= 0,
+                 "transformation_epsilon must be finite and >= 0, got {}", transformation_epsilon);
+  ROVE_CHECK_MSG(std::isfinite(transformation_rotation_epsilon) &&
+                     transformation_rotation_epsilon >= 0 && transformation_rotation_epsilon <= 1,
+                 "transformation_rotation_epsilon must be in [0, 1], got {}",
+                 transformation_rotation_epsilon);
+  ROVE_CHECK_GE(max_iterations, 1);
+  ROVE_CHECK_MSG(outlier_ratio > 0 && outlier_ratio < 1, "outlier_ratio must be in (0, 1), got {}",
+                 outlier_ratio);
+  ROVE_CHECK_MSG(degeneracy_threshold >= 0 && degeneracy_threshold < 1,
+                 "degeneracy_threshold must be in [0, 1), got {}", degeneracy_threshold);
+  ROVE_CHECK_GE(num_threads, 1);
+}
+
+// ------------------------------------------------------- the motion models
+
+namespace {
+
+/// 3D: parameters (x, y, z, roll, pitch, yaw), R = Rx(roll)·Ry(pitch)·Rz(yaw)
+/// as PCL's NDT. Precomputes R, its first and second derivatives with
+/// respect to the three angles (Magnusson eq. 6.17-6.21 in matrix form).
+struct Model3 {
+  static constexpr int D = 3, P = 6, A = 3;  // dims, parameters, angles
+  using Params = Eigen::Matrix<double, P, 1>;
+  using Vec = Eigen::Vector3d;
+  using Mat = Eigen::Matrix3d;
+  Mat R;
+  Vec t;
+  Mat dR[A];
+  Mat d2R[A][A];
+  explicit Model3(const Params& p) {
+    const double ca = std::cos(p(3)), sa = std::sin(p(3));
+    const double cb = std::cos(p(4)), sb = std::sin(p(4));
+    const double cc = std::cos(p(5)), sc = std::sin(p(5));
+    Mat X[3], Y[3], Z[3];  // value, first, second derivative
+    X[0] << 1, 0, 0, 0, ca, -sa, 0, sa, ca;
+    X[1] << 0, 0, 0, 0, -sa, -ca, 0, ca, -sa;
+    X[2] << 0, 0, 0, 0, -ca, sa, 0, -sa, -ca;
+    Y[0] << cb, 0, sb, 0, 1, 0, -sb, 0, cb;
+    Y[1] << -sb, 0, cb, 0, 0, 0, -cb, 0, -sb;
+    Y[2] << -cb, 0, -sb, 0, 0, 0, sb, 0, -cb;
+    Z[0] << cc, -sc, 0, sc, cc, 0, 0, 0, 1;
+    Z[1] << -sc, -cc, 0, cc, -sc, 0, 0, 0, 0;
+    Z[2] << -cc, sc, 0, -sc, -cc, 0, 0, 0, 0;
+    R = X[0] * Y[0] * Z[0];
+    t = p.head<3>();
+    dR[0] = X[1] * Y[0] * Z[0];
+    dR[1] = X[0] * Y[1] * Z[0];
+    dR[2] = X[0] * Y[0] * Z[1];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const int oi[3] = {i == 0 ? 1 : 0, i == 1 ? 1 : 0, i == 2 ? 1 : 0};
+        const int oj[3] = {j == 0 ? 1 : 0, j == 1 ? 1 : 0, j == 2 ? 1 : 0};
+        d2R[i][j] = X[oi[0] + oj[0]] * Y[oi[1] + oj[1]] * Z[oi[2] + oj[2]];
+      }
+  }
+  static Params from_isometry(const Eigen::Isometry3d& T) {
+    const Mat& m = T.linear();
+    Params p;
+    p.head<3>() = T.translation();
+    // R = Rx(a)·Ry(b)·Rz(c): R(0,2) = sin b, R(1,2) = −sin a cos b,
+    // R(2,2) = cos a cos b, R(0,1) = −cos b sin c, R(0,0) = cos b cos c.
+    p(4) = std::asin(std::clamp(m(0, 2), -1.0, 1.0));
+    p(3) = std::atan2(-m(1, 2), m(2, 2));
+    p(5) = std::atan2(-m(0, 1), m(0, 0));
+    return p;
+  }
+  Eigen::Isometry3d isometry() const {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = R;
+    T.translation() = t;
+    return T;
+  }
+};
+
+/// 2D: parameters (x, y, phi).
+struct Model2 {
+  static constexpr int D = 2, P = 3, A = 1;
+  using Params = Eigen::Vector3d;
+  using Vec = Eigen::Vector2d;
+  using Mat = Eigen::Matrix2d;
+  Mat R;
+  Vec t;
+  Mat dR[A];
+  Mat d2R[A][A];
+  explicit Model2(const Params& p) {
+    const double c = std::cos(p(2)), s = std::sin(p(2));
+    R << c, -s, s, c;
+    dR[0] << -s, -c, c, -s;
+    d2R[0][0] = -R;
+    t = p.head<2>();
+  }
+};
+
+template <class M>
+struct Eval {
+  double score = 0;
+  typename M::Params g = M::Params::Zero();
+  Eigen::Matrix<double, M::P, M::P> H = Eigen::Matrix<double, M::P, M::P>::Zero();
+  std::size_t with_cell = 0;
+  double nearest_sq = 0;
+  Eval& operator+=(const Eval& o) {
+    score += o.score;
+    g += o.g;
+    H += o.H;
+    with_cell += o.with_cell;
+    nearest_sq += o.nearest_sq;
+    return *this;
+  }
+};
+
+struct Gauss {
+  double d1, d2;
+};
+
+/// Score, gradient and (optionally) Hessian of the NDT score at `p`
+/// (Magnusson Algorithm 2, lines 17-21; eq. 6.10, 6.12, 6.13).
+template <class M>
+Eval<M> evaluate(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float, M::D, 1>> source,
+                 const typename M::Params& p, bool hessian, const Gauss& gc, int threads) {
+  const M model(p);
+  const double radius = grid.options().resolution;
+  return detail::parallel_reduce(source.size(), threads, Eval<M>{},
+                                 [&](std::size_t b, std::size_t e, Eval<M>& a) {
+    std::vector<Neighbor<double>> nbrs;
+    Eigen::Matrix<double, M::D, M::P> J = Eigen::Matrix<double, M::D, M::P>::Zero();
+    J.template leftCols<M::D>().setIdentity();
+    typename M::Vec Hp[M::A][M::A];
+    for (std::size_t i = b; i < e; ++i) {
+      if (!source[i].allFinite()) continue;
+      const typename M::Vec x = source[i].template cast<double>();
+      const typename M::Vec xt = model.R * x + model.t;
+      grid.tree().radius(xt, radius, nbrs, false);
+      if (nbrs.empty()) continue;
+      ++a.with_cell;
+      double best = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < M::A; ++k) J.col(M::D + k) = model.dR[k] * x;
+      if (hessian)
+        for (int k = 0; k < M::A; ++k)
+          for (int l = 0; l < M::A; ++l) Hp[k][l] = model.d2R[k][l] * x;
+      for (const auto& nb : nbrs) {
+        best = std::min(best, nb.sq_distance);
+        const auto& cell = grid.cells()[nb.index];
+        const typename M::Vec xp = xt - cell.mean;
+        const typename M::Vec Cxp = cell.inverse_covariance * xp;
+        const double ex = std::exp(-gc.d2 * xp.dot(Cxp) / 2);
+        const double d2ex = gc.d2 * ex;
+        if (d2ex > 1 || d2ex < 0 || std::isnan(d2ex)) continue;  // PCL's guard
+        a.score += -gc.d1 * ex;
+        const double f = gc.d1 * d2ex;
+        const Eigen::Matrix<double, 1, M::P> xCJ = Cxp.transpose() * J;
+        a.g += f * xCJ.transpose();
+        if (hessian) {
+          const Eigen::Matrix<double, M::P, M::P> JCJ =
+              J.transpose() * cell.inverse_covariance * J;
+          Eigen::Matrix<double, M::P, M::P> h = -gc.d2 * xCJ.transpose() * xCJ + JCJ;
+          for (int k = 0; k < M::A; ++k)
+            for (int l = 0; l < M::A; ++l) h(M::D + k, M::D + l) += Cxp.dot(Hp[k][l]);
+          a.H += f * h;
+        }
+      }
+      a.nearest_sq += best;
+    }
+  });
+}
+
+// Moré–Thuente (1994) helpers, in the notation of the paper: ψ(α) =
+// φ(α) − φ(0) − μφ'(0)α, the interval update of Sec. 2 and the trial value
+// selection of Sec. 4 (cases 1-4).
+double psi(double a, double f_a, double f_0, double g_0, double mu) {
+  return f_a - f_0 - mu * g_0 * a;
+}
+double dpsi(double g_a, double g_0, double mu) { return g_a - mu * g_0; }
+
+bool update_interval(double& a_l, double& f_l, double& g_l, double& a_u, double& f_u, double& g_u,
+                     double a_t, double f_t, double g_t) {
+  if (f_t > f_l) {  // case U1
+    a_u = a_t;
+    f_u = f_t;
+    g_u = g_t;
+    return false;
+  }
+  if (g_t * (a_l - a_t) > 0) {  // case U2
+    a_l = a_t;
+    f_l = f_t;
+    g_l = g_t;
+    return false;
+  }
+  if (g_t * (a_l - a_t) < 0) {  // case U3
+    a_u = a_l;
+    f_u = f_l;
+    g_u = g_l;
+    a_l = a_t;
+    f_l = f_t;
+    g_l = g_t;
+    return false;
+  }
+  return true;  // the interval has collapsed
+}
+
+double cubic_min(double a_l, double f_l, double g_l, double a_t, double f_t, double g_t) {
+  const double z = 3 * (f_t - f_l) / (a_t - a_l) - g_t - g_l;
+  const double w = std::sqrt(z * z - g_t * g_l);
+  return a_l + (a_t - a_l) * (w - g_l - z) / (g_t - g_l + 2 * w);
+}
+
+double select_trial(double a_l, double f_l, double g_l, double a_u, double f_u, double g_u,
+                    double a_t, double f_t, double g_t) {
+  if (a_t == a_l && a_t == a_u) return a_t;
+  if (a_t != a_l && f_t > f_l) {  // case 1: higher function value
+    const double a_c = cubic_min(a_l, f_l, g_l, a_t, f_t, g_t);
+    const double a_q = a_l - 0.5 * (a_l - a_t) * g_l / (g_l - (f_l - f_t) / (a_l - a_t));
+    return std::abs(a_c - a_l) < std::abs(a_q - a_l) ? a_c : 0.5 * (a_q + a_c);
+  }
+  if (a_t != a_l && g_t * g_l < 0) {  // case 2: derivatives of opposite sign
+    const double a_c = cubic_min(a_l, f_l, g_l, a_t, f_t, g_t);
+    const double a_s = a_l - (a_l - a_t) / (g_l - g_t) * g_l;
+    return std::abs(a_c - a_t) >= std::abs(a_s - a_t) ? a_c : a_s;
+  }
+  if (a_t != a_l && std::abs(g_t) <= std::abs(g_l)) {  // case 3: derivative shrinks
+    const double a_c = cubic_min(a_l, f_l, g_l, a_t, f_t, g_t);
+    const double a_s = a_l - (a_l - a_t) / (g_l - g_t) * g_l;
+    const double next = std::abs(a_c - a_t) < std::abs(a_s - a_t) ? a_c : a_s;
+    return a_t > a_l ? std::min(a_t + 0.66 * (a_u - a_t), next)
+                     : std::max(a_t + 0.66 * (a_u - a_t), next);
+  }
+  // case 4: the derivative does not shrink
+  return cubic_min(a_u, f_u, g_u, a_t, f_t, g_t);
+}
+
+template <class M>
+struct NdtRun {
+  typename M::Params p;
+  Eval<M> last;
+  int iterations = 0;
+  bool converged = false;
+  bool diverged = false;
+};
+
+/// Newton iterations with the Moré–Thuente line search (PCL 1.13's
+/// computeTransformation / computeStepLengthMT).
+template <class M>
+NdtRun<M> run_ndt(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float, M::D, 1>> source,
+                  typename M::Params p, const NdtOptions& o, const Gauss& gc,
+                  double (*step_translation_sq)(const typename M::Params&),
+                  double (*step_cos_angle)(const typename M::Params&)) {
+  using Params = typename M::Params;
+  NdtRun<M> run;
+  Eval<M> ev = evaluate<M>(grid, source, p, true, gc, o.num_threads);
+  while (true) {
+    Eigen::JacobiSVD<Eigen::Matrix<double, M::P, M::P>> svd(ev.H, Eigen::ComputeFullU |
+                                                                      Eigen::ComputeFullV);
+    Params delta = svd.solve(-ev.g);
+    double delta_norm = delta.norm();
+    if (delta_norm == 0 || !std::isfinite(delta_norm)) {
+      run.converged = delta_norm == 0;
+      run.diverged = !std::isfinite(delta_norm);
+      break;
+    }
+    delta /= delta_norm;
+    // Line search on φ(α) = −score(p + α·δ).
+    const double step_max = o.step_size, step_min = o.transformation_epsilon / 2;
+    const double mu = 1e-4, nu = 0.9;
+    const double phi_0 = -ev.score;
+    double d_phi_0 = -ev.g.dot(delta);
+    double a_t = 0;
+    if (d_phi_0 >= 0) {
+      if (d_phi_0 == 0) {
+        run.converged = true;
+        break;
+      }
+      d_phi_0 = -d_phi_0;  // not a descent direction: search the other way
+      delta = -delta;
+    }
+    double a_l = 0, a_u = 0;
+    double f_l = psi(a_l, phi_0, phi_0, d_phi_0, mu), g_l = dpsi(d_phi_0, d_phi_0, mu);
+    double f_u = f_l, g_u = g_l;
+    bool interval_converged = (step_max - step_min) < 0, open_interval = true;
+    a_t = std::clamp(delta_norm, step_min, step_max);
+    ev = evaluate<M>(grid, source, p + delta * a_t, true, gc, o.num_threads);
+    double phi_t = -ev.score, d_phi_t = -ev.g.dot(delta);
+    double psi_t = psi(a_t, phi_t, phi_0, d_phi_0, mu), d_psi_t = dpsi(d_phi_t, d_phi_0, mu);
+    int steps = 0;
+    while (!interval_converged && steps < 10 && !(psi_t <= 0 && d_phi_t <= -nu * d_phi_0)) {
+      a_t = open_interval ? select_trial(a_l, f_l, g_l, a_u, f_u, g_u, a_t, psi_t, d_psi_t)
+                          : select_trial(a_l, f_l, g_l, a_u, f_u, g_u, a_t, phi_t, d_phi_t);
+      a_t = std::clamp(a_t, step_min, step_max);
+      ev = evaluate<M>(grid, source, p + delta * a_t, false, gc, o.num_threads);
+      phi_t = -ev.score;
+      d_phi_t = -ev.g.dot(delta);
+      psi_t = psi(a_t, phi_t, phi_0, d_phi_0, mu);
+      d_psi_t = dpsi(d_phi_t, d_phi_0, mu);
+      if (open_interval && psi_t <= 0 && d_psi_t >= 0) {
+        open_interval = false;  // switch from ψ to φ (Moré–Thuente Sec. 3)
+        f_l += phi_0 - mu * d_phi_0 * a_l;
+        g_l += mu * d_phi_0;
+        f_u += phi_0 - mu * d_phi_0 * a_u;
+        g_u += mu * d_phi_0;
+      }
+      interval_converged =
+          open_interval ? update_interval(a_l, f_l, g_l, a_u, f_u, g_u, a_t, psi_t, d_psi_t)
+                        : update_interval(a_l, f_l, g_l, a_u, f_u, g_u, a_t, phi_t, d_phi_t);
+      ++steps;
+    }
+    const Params step = delta * a_t;
+    p += step;
+    if (steps) ev = evaluate<M>(grid, source, p, true, gc, o.num_threads);
+    ++run.iterations;
+    if (!p.allFinite() || !std::isfinite(ev.score)) {
+      run.diverged = true;
+      break;
+    }
+    const double tsq = step_translation_sq(step);
+    const double cos_angle = step_cos_angle(step);
+    const double te = o.transformation_epsilon, re = o.transformation_rotation_epsilon;
+    const bool trans_ok = te > 0 && tsq <= te;
+    const bool rot_ok = re > 0 && cos_angle >= re;
+    if ((trans_ok && rot_ok) || (te <= 0 && rot_ok) || (trans_ok && re <= 0)) {
+      run.converged = true;
+      break;
+    }
+    if (run.iterations >= o.max_iterations) break;
+  }
+  run.p = p;
+  run.last = ev;
+  return run;
+}
+
+Gauss gauss_constants(double outlier_ratio, double resolution, int dim) {
+  // Magnusson 2009, eq. 6.8 (as PCL): c₁ = 10(1 − p_o), c₂ = p_o / r^dim.
+  const double c1 = 10 * (1 - outlier_ratio);
+  const double c2 = outlier_ratio / std::pow(resolution, dim);
+  const double d3 = -std::log(c2);
+  Gauss g;
+  g.d1 = -std::log(c1 + c2) - d3;
+  g.d2 = -2 * std::log((-std::log(c1 * std::exp(-0.5) + c2) - d3) / g.d1);
+  return g;
+}
+
+template <int D, typename Pt>
+double conditioning_of(const NdtGrid<D>& grid, std::span<const Pt> transformed) {
+  std::vector<Eigen::Vector3d> q, n;
+  for (const auto& x : transformed) {
+    if (!x.allFinite()) continue;
+    const auto nn = grid.tree().nearest(x, grid.options().resolution);
+    if (!nn) continue;
+    Eigen::Vector3d p3 = Eigen::Vector3d::Zero(), n3 = Eigen::Vector3d::Zero();
+    p3.head<D>() = x;
+    n3.head<D>() = grid.cells()[nn->index].normal;
+    q.push_back(p3);
+    n.push_back(n3);
+  }
+  if constexpr (D == 3) {
+    return point_to_plane_conditioning(q, n);
+  } else {
+    // Planar: information over (x, y, phi) about the centroid.
+    if (q.size() < 3) return 0.0;
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (const auto& p : q) c += p.head<2>();
+    c /= static_cast<double>(q.size());
+    double r2 = 0;
+    for (const auto& p : q) r2 += (p.head<2>() - c).squaredNorm();
+    const double L = std::sqrt(r2 / static_cast<double>(q.size()));
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      const Eigen::Vector2d d = q[i].head<2>() - c;
+      const Eigen::Vector3d j(n[i].x(), n[i].y(),
+                              L > 0 ? (d.x() * n[i].y() - d.y() * n[i].x()) / L : 0.0);
+      A += j * j.transpose();
+    }
+    const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(A).eigenvalues();
+    return ev(2) > 0 ? std::max(ev(0), 0.0) / ev(2) : 0.0;
+  }
+}
+
+}  // namespace
+
+Ndt3dResult ndt_3d(const NdtGrid3D& target, std::span<const Eigen::Vector3f> source,
+                   const Eigen::Isometry3d& initial, const NdtOptions& o) {
+  o.check();
+  ROVE_CHECK_FINITE(initial.matrix());
+  ROVE_CHECK_MSG((initial.linear().transpose() * initial.linear() - Eigen::Matrix3d::Identity())
+                         .cwiseAbs()
+                         .maxCoeff() < 1e-6,
+                 "the initial transform is not rigid");
+  Ndt3dResult res;
+  res.matrix = initial.matrix();
+  res.T_target_source = Pose3Gaussian(Pose3(initial.linear(), initial.translation(), 1e-6));
+  res.conditioning = std::numeric_limits<double>::quiet_NaN();
+  const std::size_t finite = std::count_if(source.begin(), source.end(),
+                                           [](const auto& p) { return p.allFinite(); });
+  if (target.empty() || finite == 0) {
+    res.message = target.empty() ? "the target has no NDT cell (too few points per cell?)"
+                                 : "the source has no finite point";
+    return res;
+  }
+  const Gauss gc = gauss_constants(o.outlier_ratio, target.options().resolution, 3);
+  auto tsq = [](const Model3::Params& s) { return s.head<3>().squaredNorm(); };
+  auto cosang = [](const Model3::Params& s) { return 0.5 * (Model3(s).R.trace() - 1); };
+  const auto run = run_ndt<Model3>(target, source, Model3::from_isometry(initial), o, gc, tsq, cosang);
+  const Model3 m(run.p);
+  res.iterations = run.iterations;
+  res.matrix = m.isometry().matrix();
+  res.transformation_probability = run.last.score / static_cast<double>(source.size());
+  res.goodness = static_cast<double>(run.last.with_cell) / static_cast<double>(finite);
+  res.fitness = run.last.with_cell ? run.last.nearest_sq / static_cast<double>(run.last.with_cell) : 0.0;
+  const Pose3 mean(m.R, m.t, 1e-6);
+  if (run.diverged) {
+    res.T_target_source = Pose3Gaussian(mean);
+    res.termination = RegistrationTermination::Diverged;
+    res.message = fmt::format("the Newton step became non-finite at iteration {}", run.iterations);
+    return res;
+  }
+  if (run.last.with_cell == 0) {
+    res.T_target_source = Pose3Gaussian(mean);
+    res.termination = RegistrationTermination::TooFewCorrespondences;
+    res.message = "no source point lies within one resolution of a target cell";
+    return res;
+  }
+  // Covariance: (−H)⁻¹ over PCL's (t, roll, pitch, yaw), mapped to rove's
+  // (t, yaw, pitch, roll) through the left rotation rates of both.
+  const Eigen::Matrix<double, 6, 6> info = -run.last.H;
+  const Eigen::Matrix<double, 6, 6> C_pcl = covariance_from_information<6>(info, 1.0, 1e-12);
+  Eigen::Matrix3d E_pcl;  // ω = E_pcl · (roll, pitch, yaw)˙ for R = Rx·Ry·Rz
+  {
+    const Eigen::Matrix3d Rx = Eigen::AngleAxisd(run.p(3), Eigen::Vector3d::UnitX()).toRotationMatrix();
+    const Eigen::Matrix3d Ry = Eigen::AngleAxisd(run.p(4), Eigen::Vector3d::UnitY()).toRotationMatrix();
+    E_pcl.col(0) = Eigen::Vector3d::UnitX();
+    E_pcl.col(1) = Rx * Eigen::Vector3d::UnitY();
+    E_pcl.col(2) = Rx * Ry * Eigen::Vector3d::UnitZ();
+  }
+  Eigen::Matrix<double, 6, 6> J = ypr_jacobian_wrt_left_tangent(mean);
+  J.bottomRightCorner<3, 3>() = J.bottomRightCorner<3, 3>() * E_pcl;
+  Eigen::Matrix<double, 6, 6> C = J * C_pcl * J.transpose();
+  C = 0.5 * (C + C.transpose());
+  res.T_target_source = Pose3Gaussian(detail::kUnchecked, mean, C);
+
+  bool degenerate = false;
+  if (o.degeneracy_threshold > 0) {
+    std::vector<Eigen::Vector3d> moved;
+    moved.reserve(source.size());
+    for (const auto& s : source) moved.push_back(m.R * s.cast<double>() + m.t);
+    res.conditioning = conditioning_of<3, Eigen::Vector3d>(target, moved);
+    degenerate = res.conditioning < o.degeneracy_threshold;
+  }
+  if (degenerate) {
+    res.termination = RegistrationTermination::Degenerate;
+    res.message = fmt::format(
+        "the matched cells leave a direction unconstrained (conditioning {:.3g} < {:.3g})",
+        res.conditioning, o.degeneracy_threshold);
+  } else if (run.converged) {
+    res.termination = RegistrationTermination::Converged;
+    res.message = fmt::format("converged in {} iterations, probability {:.4g}", run.iterations,
+                              res.transformation_probability);
+  } else {
+    res.termination = RegistrationTermination::MaxIterations;
+    res.message = fmt::format("{} iterations without a step below the epsilons", run.iterations);
+  }
+  return res;
+}
+
+Ndt2dResult ndt_2d(const NdtGrid2D& target, std::span<const Eigen::Vector2f> source,
+                   const Pose2& initial, const NdtOptions& o) {
+  o.check();
+  Ndt2dResult res;
+  res.T_target_source = Pose2Gaussian(initial);
+  res.conditioning = std::numeric_limits<double>::quiet_NaN();
+  const std::size_t finite = std::count_if(source.begin(), source.end(),
+                                           [](const auto& p) { return p.allFinite(); });
+  if (target.empty() || finite == 0) {
+    res.message = target.empty() ? "the target has no NDT cell (too few points per cell?)"
+                                 : "the source has no finite point";
+    return res;
+  }
+  const Gauss gc = gauss_constants(o.outlier_ratio, target.options().resolution, 2);
+  auto tsq = [](const Model2::Params& s) { return s.head<2>().squaredNorm(); };
+  auto cosang = [](const Model2::Params& s) { return std::cos(s(2)); };
+  const auto run = run_ndt<Model2>(target, source, initial.to_vector(), o, gc, tsq, cosang);
+  res.iterations = run.iterations;
+  res.transformation_probability = run.last.score / static_cast<double>(source.size());
+  res.goodness = static_cast<double>(run.last.with_cell) / static_cast<double>(finite);
+  res.fitness = run.last.with_cell ? run.last.nearest_sq / static_cast<double>(run.last.with_cell) : 0.0;
+  const Pose2 mean(run.p(0), run.p(1), wrap_to_pi(run.p(2)));
+  if (run.diverged || !run.p.allFinite()) {
+    res.termination = RegistrationTermination::Diverged;
+    res.message = fmt::format("the Newton step became non-finite at iteration {}", run.iterations);
+    return res;
+  }
+  if (run.last.with_cell == 0) {
+    res.T_target_source = Pose2Gaussian(mean);
+    res.termination = RegistrationTermination::TooFewCorrespondences;
+    res.message = "no source point lies within one resolution of a target cell";
+    return res;
+  }
+  const Eigen::Matrix3d C = covariance_from_information<3>(-run.last.H, 1.0, 1e-12);
+  res.T_target_source = Pose2Gaussian(detail::kUnchecked, mean, C);
+  bool degenerate = false;
+  if (o.degeneracy_threshold > 0) {
+    const Model2 m(run.p);
+    std::vector<Eigen::Vector2d> moved;
+    for (const auto& s : source) moved.push_back(m.R * s.cast<double>() + m.t);
+    res.conditioning = conditioning_of<2, Eigen::Vector2d>(target, moved);
+    degenerate = res.conditioning < o.degeneracy_threshold;
+  }
+  if (degenerate) {
+    res.termination = RegistrationTermination::Degenerate;
+    res.message = fmt::format(
+        "the matched cells leave a direction unconstrained (conditioning {:.3g} < {:.3g})",
+        res.conditioning, o.degeneracy_threshold);
+  } else if (run.converged) {
+    res.termination = RegistrationTermination::Converged;
+    res.message = fmt::format("converged in {} iterations, probability {:.4g}", run.iterations,
+                              res.transformation_probability);
+  } else {
+    res.termination = RegistrationTermination::MaxIterations;
+    res.message = fmt::format("{} iterations without a step below the epsilons", run.iterations);
+  }
+  return res;
+}
+
+}  // namespace rove

@@ -1,0 +1,70 @@
+#include "rove/registration/pose_covariance.h"
+
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+
+#include "rove/core/check.h"
+#include "rove/registration/rigid_transform.h"
+
+namespace rove {
+
+template <int N>
+Eigen::Matrix<double, N, N> covariance_from_information(const Eigen::Matrix<double, N, N>& H,
+                                                        double scale, double relative_floor,
+                                                        int* unconstrained) {
+  ROVE_CHECK_FINITE(H);
+  ROVE_CHECK_GT(scale, 0.0);
+  ROVE_CHECK_MSG(relative_floor > 0.0 && relative_floor < 1.0,
+                 "relative_floor must be in (0, 1), got {}", relative_floor);
+  const Eigen::Matrix<double, N, N> Hs = 0.5 * (H + H.transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(Hs);
+  const auto& lambda = eig.eigenvalues();
+  const double lambda_max = std::max(lambda.maxCoeff(), 0.0);
+  Eigen::Matrix<double, N, N> C = Eigen::Matrix<double, N, N>::Zero();
+  int n_free = 0;
+  for (int i = 0; i < N; ++i) {
+    const auto v = eig.eigenvectors().col(i);
+    if (lambda_max <= 0.0 || lambda(i) <= relative_floor * lambda_max) {
+      C += kUnconstrainedVariance * v * v.transpose();
+      ++n_free;
+    } else {
+      C += (scale / lambda(i)) * v * v.transpose();
+    }
+  }
+  if (unconstrained) *unconstrained = n_free;
+  return 0.5 * (C + C.transpose());
+}
+
+template Eigen::Matrix<double, 3, 3> covariance_from_information<3>(const Eigen::Matrix3d&, double,
+                                                                    double, int*);
+template Eigen::Matrix<double, 6, 6> covariance_from_information<6>(
+    const Eigen::Matrix<double, 6, 6>&, double, double, int*);
+
+Eigen::Matrix3d ypr_rate_to_omega(double yaw, double pitch) {
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  const double cp = std::cos(pitch), sp = std::sin(pitch);
+  Eigen::Matrix3d E;
+  // Columns: d/dyaw rotates about the parent z; d/dpitch about Rz·y; d/droll
+  // about Rz·Ry·x (the chain rule of R = Rz·Ry·Rx under a left perturbation).
+  E.col(0) = Eigen::Vector3d(0, 0, 1);
+  E.col(1) = Eigen::Vector3d(-sy, cy, 0);
+  E.col(2) = Eigen::Vector3d(cy * cp, sy * cp, -sp);
+  return E;
+}
+
+Eigen::Matrix<double, 6, 6> ypr_jacobian_wrt_left_tangent(const Pose3& pose) {
+  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
+  J.topLeftCorner<3, 3>().setIdentity();
+  const Eigen::Matrix3d E = ypr_rate_to_omega(pose.yaw(), pose.pitch());
+  if (std::abs(std::cos(pose.pitch())) >= 1e-9) {
+    J.bottomRightCorner<3, 3>() = E.inverse();
+  } else {
+    J.bottomRightCorner<3, 3>() =
+        E.jacobiSvd(Eigen::ComputeFullU | Eigen::ComputeFullV).solve(Eigen::Matrix3d::Identity());
+  }
+  return J;
+}
+
+}  // namespace rove

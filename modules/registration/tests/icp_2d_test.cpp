@@ -1,0 +1,268 @@
+#include "rove/registration/icp_2d.h"
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "rove/core/error.h"
+#include "rove/core/ini.h"
+#include "rove/poses/angle.h"
+
+namespace rove {
+namespace {
+
+/// Points every `step` meters along the segment a→b.
+void add_segment(std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d a, Eigen::Vector2d b,
+                 double step) {
+  const double len = (b - a).norm();
+  const int n = static_cast<int>(len / step);
+  for (int i = 0; i <= n; ++i) pts.push_back(a + (b - a) * (i * step / len));
+}
+
+/// A 10 m × 6 m room with a pillar and a cabinet: well-constrained geometry.
+std::vector<Eigen::Vector2d> room(double step) {
+  std::vector<Eigen::Vector2d> p;
+  add_segment(p, {-5, -3}, {5, -3}, step);
+  add_segment(p, {5, -3}, {5, 3}, step);
+  add_segment(p, {5, 3}, {-5, 3}, step);
+  add_segment(p, {-5, 3}, {-5, -3}, step);
+  add_segment(p, {1, 0}, {1.5, 0}, step);
+  add_segment(p, {1.5, 0}, {1.5, 0.8}, step);
+  add_segment(p, {-3, -3}, {-3, -1.5}, step);
+  add_segment(p, {-3, -1.5}, {-2, -1.5}, step);
+  return p;
+}
+
+/// Two parallel walls 2 m apart, 40 m long: nothing constrains x.
+std::vector<Eigen::Vector2d> corridor(double step) {
+  std::vector<Eigen::Vector2d> p;
+  add_segment(p, {-20, -1}, {20, -1}, step);
+  add_segment(p, {-20, 1}, {20, 1}, step);
+  return p;
+}
+
+/// The map points seen from `T_map_scan`: source = T⁻¹ · p, with noise.
+std::vector<Eigen::Vector2d> as_seen_from(const std::vector<Eigen::Vector2d>& map,
+                                          const Pose2& T_map_scan, double noise,
+                                          std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n(0, noise);
+  const Pose2 inv = T_map_scan.inverse();
+  std::vector<Eigen::Vector2d> out;
+  for (const auto& p : map) {
+    const Eigen::Vector2d q = inv.rotation() * p + inv.translation();
+    out.push_back(q + (noise > 0 ? Eigen::Vector2d(n(rng), n(rng)) : Eigen::Vector2d::Zero()));
+  }
+  return out;
+}
+
+Icp2dOptions accurate_options() {
+  Icp2dOptions o;
+  o.threshold_dist = 0.5;
+  o.threshold_ang = deg_to_rad(2);
+  o.alfa = 0.8;
+  o.smallest_threshold_dist = 0.02;
+  o.max_iterations = 100;
+  o.corresponding_points_decimation = 1;
+  return o;
+}
+
+void expect_pose_near(const Pose2& a, const Pose2& b, double tol_xy, double tol_phi) {
+  EXPECT_NEAR(a.x(), b.x(), tol_xy);
+  EXPECT_NEAR(a.y(), b.y(), tol_xy);
+  EXPECT_NEAR(wrap_to_pi(a.phi() - b.phi()), 0.0, tol_phi);
+}
+
+TEST(Icp2d, ClassicRecoversKnownPoseInARoom) {
+  // A denser map than scan (as a map built from many scans), exact scan.
+  const auto map = room(0.02);
+  const Pose2 truth(0.2, -0.15, deg_to_rad(4));
+  const auto scan = as_seen_from(room(0.1), truth, 0.0, 1);
+  const IcpTarget2D target(map);
+  const auto r = icp_2d(target, scan, Pose2(), accurate_options());
+  ASSERT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
+  // Point-to-point pairs slide along walls sampled at 10 cm: sub-centimeter.
+  expect_pose_near(r.T_target_source.mean(), truth, 0.01, deg_to_rad(0.3));
+  EXPECT_GT(r.goodness, 0.9);
+  EXPECT_LT(r.fitness, 1e-4);
+  EXPECT_GT(r.conditioning, 0.05);
+  // Covariance: positive definite and small for 500+ pairs at σ = 2 cm.
+  EXPECT_GT(r.T_target_source.covariance().determinant(), 0.0);
+  EXPECT_LT(r.T_target_source.covariance()(0, 0), 1e-4);
+}
+
+TEST(Icp2d, EveryVariantRecoversANoisyScan) {
+  const auto map = room(0.05);
+  const Pose2 truth(-0.2, 0.3, deg_to_rad(-5));
+  const auto scan = as_seen_from(map, truth, 0.005, 2);
+  IcpTarget2DOptions topt;
+  topt.normal_neighbors = 5;
+  const IcpTarget2D target(map, topt);
+  for (auto algo : {IcpAlgorithm::Classic, IcpAlgorithm::LevenbergMarquardt}) {
+    for (auto metric : {Icp2dMetric::PointToPoint, Icp2dMetric::PointToLine}) {
+      auto o = accurate_options();
+      o.algorithm = algo;
+      o.metric = metric;
+      const auto r = icp_2d(target, scan, Pose2(), o);
+      SCOPED_TRACE(::testing::Message() << "algorithm " << static_cast<int>(algo) << " metric "
+                                        << static_cast<int>(metric));
+      ASSERT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
+      expect_pose_near(r.T_target_source.mean(), truth, 5e-3, deg_to_rad(0.1));
+    }
+  }
+}
+
+TEST(Icp2d, MrptDecimationUsesEveryPointOverTheRun) {
+  const auto map = room(0.02);
+  const Pose2 truth(0.1, 0.05, deg_to_rad(3));
+  const auto scan = as_seen_from(room(0.05), truth, 0.003, 3);
+  auto o = accurate_options();
+  o.corresponding_points_decimation = 5;
+  o.only_unique_robust = true;
+  o.min_abs_step_trans = 1e-4;  // with noise, rotating subsets never repeat a step exactly
+  o.min_abs_step_rot = 1e-4;
+  const auto r = icp_2d(IcpTarget2D(map), scan, Pose2(), o);
+  ASSERT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
+  expect_pose_near(r.T_target_source.mean(), truth, 0.01, deg_to_rad(0.3));
+  // MRPT's goodness scales the count by the decimation: still ≈ 1.
+  EXPECT_GT(r.goodness, 0.95);
+}
+
+TEST(Icp2d, CorridorIsReportedDegenerate) {
+  const auto map = corridor(0.05);
+  const Pose2 truth(0.3, 0.1, deg_to_rad(2));
+  const auto scan = as_seen_from(map, truth, 0.0, 4);
+  for (auto metric : {Icp2dMetric::PointToPoint, Icp2dMetric::PointToLine}) {
+    IcpTarget2DOptions topt;
+    topt.normal_neighbors = 5;
+    auto o = accurate_options();
+    o.metric = metric;
+    const auto r = icp_2d(IcpTarget2D(map, topt), scan, Pose2(), o);
+    EXPECT_EQ(r.termination, RegistrationTermination::Degenerate) << r.message;
+    EXPECT_LT(r.conditioning, 1e-3);
+    // The constrained directions are still right: y and phi.
+    EXPECT_NEAR(r.T_target_source.mean().y(), 0.1, 1e-3);
+    EXPECT_NEAR(r.T_target_source.mean().phi(), deg_to_rad(2), 1e-3);
+  }
+}
+
+TEST(Icp2d, AgainstAnOccupancyGrid) {
+  OccupancyGrid grid(-6, 6, -4, 4, 0.05f);
+  const auto walls = room(0.01);
+  for (const auto& p : walls)
+    grid.set_free_probability(grid.x_to_idx(p.x()), grid.y_to_idx(p.y()), 0.05f);
+  const IcpTarget2D target = IcpTarget2D::from_grid(grid);
+  ASSERT_GT(target.size(), 500u);
+  const Pose2 truth(0.2, 0.1, deg_to_rad(4));
+  const auto scan = as_seen_from(room(0.05), truth, 0.003, 5);
+  auto o = accurate_options();
+  o.smallest_threshold_dist = 0.05;
+  const auto r = icp_2d(target, scan, Pose2(), o);
+  ASSERT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
+  // Cell centers quantize the walls to 5 cm: within a cell.
+  expect_pose_near(r.T_target_source.mean(), truth, 0.05, deg_to_rad(0.5));
+}
+
+TEST(Icp2d, ParallelEqualsSerial) {
+  const auto map = room(0.05);
+  const auto scan = as_seen_from(map, Pose2(0.1, 0.2, 0.05), 0.01, 6);
+  IcpTarget2DOptions topt;
+  topt.normal_neighbors = 5;
+  const IcpTarget2D target(map, topt);
+  for (auto algo : {IcpAlgorithm::Classic, IcpAlgorithm::LevenbergMarquardt}) {
+    auto o = accurate_options();
+    o.algorithm = algo;
+    o.metric = Icp2dMetric::PointToLine;
+    o.only_unique_robust = true;
+    const auto a = icp_2d(target, scan, Pose2(), o);
+    o.num_threads = 3;
+    const auto b = icp_2d(target, scan, Pose2(), o);
+    EXPECT_EQ(a.T_target_source.mean().x(), b.T_target_source.mean().x());
+    EXPECT_EQ(a.T_target_source.mean().phi(), b.T_target_source.mean().phi());
+    EXPECT_EQ(a.T_target_source.covariance(), b.T_target_source.covariance());
+    EXPECT_EQ(a.iterations, b.iterations);
+    EXPECT_EQ(a.correspondences, b.correspondences);
+  }
+}
+
+TEST(Icp2d, BadInputsGiveHonestTerminations) {
+  const auto map = room(0.1);
+  const IcpTarget2D target(map);
+  std::vector<Eigen::Vector2d> empty;
+  EXPECT_EQ(icp_2d(target, empty, Pose2()).termination, RegistrationTermination::InvalidInput);
+  EXPECT_EQ(icp_2d(IcpTarget2D(), map, Pose2()).termination, RegistrationTermination::InvalidInput);
+  std::vector<Eigen::Vector2d> nans(10, Eigen::Vector2d(std::nan(""), 0));
+  EXPECT_EQ(icp_2d(target, nans, Pose2()).termination, RegistrationTermination::InvalidInput);
+  // Far from the map: no pair within the gate.
+  const auto r = icp_2d(target, map, Pose2(100, 100, 0));
+  EXPECT_EQ(r.termination, RegistrationTermination::TooFewCorrespondences);
+  EXPECT_EQ(r.T_target_source.mean().x(), 100.0);
+  // Non-finite source points among good ones are skipped.
+  auto mixed = as_seen_from(map, Pose2(0.05, 0, 0), 0, 7);
+  mixed.push_back({std::nan(""), 1.0});
+  mixed.push_back({INFINITY, 1.0});
+  const auto rm = icp_2d(target, mixed, Pose2(), accurate_options());
+  EXPECT_EQ(rm.termination, RegistrationTermination::Converged) << rm.message;
+  // Point-to-line without normals is a caller bug.
+  auto o = accurate_options();
+  o.metric = Icp2dMetric::PointToLine;
+  EXPECT_THROW(icp_2d(target, map, Pose2(), o), InvalidArgument);
+}
+
+TEST(Icp2d, MaxIterationsIsNotConverged) {
+  const auto map = room(0.05);
+  const auto scan = as_seen_from(map, Pose2(0.3, 0.2, 0.1), 0.0, 8);
+  auto o = accurate_options();
+  o.max_iterations = 2;
+  o.alfa = 0.9;
+  const auto r = icp_2d(IcpTarget2D(map), scan, Pose2(), o);
+  EXPECT_EQ(r.termination, RegistrationTermination::MaxIterations) << r.message;
+  EXPECT_GE(r.iterations, 2u);
+}
+
+TEST(Icp2dOptions, LoadsMrptIcpSlamSection) {
+  const std::string path = std::string(ROVE_SOURCE_DIR) + "/data/mrpt/icp-slam_demo_classic.ini";
+  const IniFile ini = IniFile::load(path);
+  const Icp2dOptions o = icp_2d_options_from_ini(ini, "ICP");
+  EXPECT_EQ(o.max_iterations, 80u);
+  EXPECT_DOUBLE_EQ(o.threshold_dist, 0.3);
+  EXPECT_NEAR(o.threshold_ang, deg_to_rad(5), 1e-15);
+  EXPECT_DOUBLE_EQ(o.alfa, 0.8);
+  EXPECT_DOUBLE_EQ(o.smallest_threshold_dist, 0.05);
+  EXPECT_TRUE(o.only_closest_correspondences);
+  EXPECT_TRUE(o.only_unique_robust);
+  EXPECT_EQ(o.algorithm, IcpAlgorithm::Classic);
+  EXPECT_EQ(o.corresponding_points_decimation, 5u);
+  const IniFile lm = IniFile::load(std::string(ROVE_SOURCE_DIR) + "/data/mrpt/icp-slam_demo_LM.ini");
+  EXPECT_EQ(icp_2d_options_from_ini(lm, "ICP").algorithm, IcpAlgorithm::LevenbergMarquardt);
+}
+
+TEST(Icp2dOptions, UnknownAndMalformedKeysAreReported) {
+  const IniFile ini = IniFile::parse("[ICP]\nmaxIterations = 10\nthresholdDsit = 0.3\n", "t.ini");
+  try {
+    (void)icp_2d_options_from_ini(ini, "ICP");
+    FAIL() << "no error for an unknown key";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "thresholdDsit");
+    EXPECT_EQ(e.file(), "t.ini");
+  }
+  std::vector<std::string> unknown;
+  const auto o = icp_2d_options_from_ini(
+      IniFile::parse("[ICP]\nmaxIterations = 10\nthresholdDsit = 0.3\n"), "ICP", &unknown);
+  EXPECT_EQ(o.max_iterations, 10u);
+  ASSERT_EQ(unknown.size(), 1u);
+  EXPECT_EQ(unknown[0], "thresholdDsit");
+  EXPECT_THROW(icp_2d_options_from_ini(IniFile::parse("[ICP]\nALFA = 1.5\n"), "ICP"), ConfigError);
+  EXPECT_THROW(icp_2d_options_from_ini(IniFile::parse("[ICP]\nALFA = abc\n"), "ICP"), ConfigError);
+  EXPECT_THROW(icp_2d_options_from_ini(IniFile::parse("[ICP]\nrobust_kernel = nope\n"), "ICP"),
+               ConfigError);
+  EXPECT_EQ(icp_2d_options_from_ini(IniFile::parse("[ICP]\nrobust_kernel = huber:0.1\n"), "ICP")
+                .robust_kernel->type(),
+            RobustKernelType::Huber);
+}
+
+}  // namespace
+}  // namespace rove

@@ -1,0 +1,146 @@
+#include "rove/registration/ndt.h"
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include "rove/core/error.h"
+#include "rove/poses/angle.h"
+#include "synthetic_3d.h"
+
+namespace rove {
+namespace {
+
+using test::make_pose;
+using test::pose_error;
+
+NdtOptions tight() {
+  NdtOptions o;
+  o.transformation_epsilon = 1e-8;
+  o.max_iterations = 60;
+  return o;
+}
+
+TEST(Ndt3d, RecoversAKnownTransform) {
+  const auto scene = test::room_3d(0.15);
+  const NdtGrid3D grid{std::span<const Eigen::Vector3f>(scene)};
+  ASSERT_GT(grid.cells().size(), 100u);
+  const Eigen::Isometry3d truth = make_pose(0.25, -0.2, 0.05, 0.01, -0.02, 0.1);
+  const auto src = test::as_seen_from(test::room_3d(0.3), truth, 0.0, 1);
+  const auto r = ndt_3d(grid, src, Eigen::Isometry3d::Identity(), tight());
+  ASSERT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
+  const auto [et, er] = pose_error(r.matrix, truth.matrix());
+  EXPECT_LT(et, 0.02);
+  EXPECT_LT(er, deg_to_rad(0.2));
+  EXPECT_GT(r.goodness, 0.99);
+  EXPECT_GT(r.transformation_probability, 0.0);
+  EXPECT_GT(r.T_target_source.covariance().determinant(), 0.0);
+}
+
+TEST(Ndt3d, GridCellsMatchTheirDefinition) {
+  // One cell holding a known set: mean, (n−1) covariance with the eigenvalue
+  // floor, and the minimum point count.
+  std::vector<Eigen::Vector3f> pts{{0.1f, 0.1f, 0.5f}, {0.9f, 0.1f, 0.5f}, {0.1f, 0.9f, 0.5f},
+                                   {0.9f, 0.9f, 0.5f}, {0.5f, 0.5f, 0.5f}, {0.5f, 0.2f, 0.5f}};
+  const NdtGrid3D grid{std::span<const Eigen::Vector3f>(pts)};
+  ASSERT_EQ(grid.cells().size(), 1u);
+  const auto& c = grid.cells()[0];
+  EXPECT_EQ(c.points, 6);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) mean += p.cast<double>();
+  mean /= 6;
+  EXPECT_TRUE(c.mean.isApprox(mean, 1e-6));
+  // Flat in z: the normal is ±z and the z variance is floored at 1% of λmax.
+  EXPECT_NEAR(std::abs(c.normal.z()), 1.0, 1e-9);
+  const Eigen::Matrix3d cov = c.inverse_covariance.inverse();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  EXPECT_NEAR(eig.eigenvalues()(0) / eig.eigenvalues()(2), 0.01, 1e-9);
+  pts.pop_back();
+  EXPECT_TRUE(NdtGrid3D(std::span<const Eigen::Vector3f>(pts)).empty());
+}
+
+TEST(Ndt3d, SinglePlaneIsDegenerate) {
+  const auto scene = test::plane_3d(0.2);
+  const NdtGrid3D grid{std::span<const Eigen::Vector3f>(scene)};
+  const auto src = test::as_seen_from(scene, make_pose(0.1, 0.1, 0.05, 0, 0, 0.02), 0.0, 2);
+  const auto r = ndt_3d(grid, src, Eigen::Isometry3d::Identity(), tight());
+  EXPECT_EQ(r.termination, RegistrationTermination::Degenerate) << r.message;
+}
+
+TEST(Ndt3d, ParallelEqualsSerialAndBadInputs) {
+  const auto scene = test::room_3d(0.25);
+  const NdtGrid3D grid{std::span<const Eigen::Vector3f>(scene)};
+  const auto src = test::as_seen_from(scene, make_pose(0.1, 0, 0, 0, 0, 0.03), 0.01, 3);
+  auto o = tight();
+  o.max_iterations = 2;
+  const auto a = ndt_3d(grid, src, Eigen::Isometry3d::Identity(), o);
+  o.num_threads = 2;
+  const auto b = ndt_3d(grid, src, Eigen::Isometry3d::Identity(), o);
+  EXPECT_EQ(a.matrix, b.matrix);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.termination, RegistrationTermination::MaxIterations);
+
+  std::vector<Eigen::Vector3f> none;
+  EXPECT_EQ(ndt_3d(grid, none, Eigen::Isometry3d::Identity()).termination,
+            RegistrationTermination::InvalidInput);
+  EXPECT_EQ(ndt_3d(NdtGrid3D(), src, Eigen::Isometry3d::Identity()).termination,
+            RegistrationTermination::InvalidInput);
+  const auto far = ndt_3d(grid, src, make_pose(100, 0, 0, 0, 0, 0));
+  EXPECT_EQ(far.termination, RegistrationTermination::TooFewCorrespondences) << far.message;
+  NdtGridOptions bad;
+  bad.resolution = 0;
+  EXPECT_THROW(NdtGrid3D(std::span<const Eigen::Vector3f>(scene), bad), InvalidArgument);
+}
+
+std::vector<Eigen::Vector2f> room_2d(double step) {
+  std::vector<Eigen::Vector2f> p;
+  auto seg = [&](Eigen::Vector2d a, Eigen::Vector2d b) {
+    const int n = static_cast<int>((b - a).norm() / step);
+    for (int i = 0; i <= n; ++i) p.push_back((a + (b - a) * (double(i) / n)).cast<float>());
+  };
+  seg({-5, -3}, {5, -3});
+  seg({5, -3}, {5, 3});
+  seg({5, 3}, {-5, 3});
+  seg({-5, 3}, {-5, -3});
+  seg({1, 0}, {2, 0});
+  seg({2, 0}, {2, 1.5});
+  seg({-3, -3}, {-3, -1});
+  return p;
+}
+
+std::vector<Eigen::Vector2f> seen_from(const std::vector<Eigen::Vector2f>& pts, const Pose2& T) {
+  const Pose2 inv = T.inverse();
+  std::vector<Eigen::Vector2f> out;
+  for (const auto& p : pts)
+    out.push_back((inv.rotation() * p.cast<double>() + inv.translation()).cast<float>());
+  return out;
+}
+
+TEST(Ndt2d, RecoversAKnownPose) {
+  NdtGridOptions go;
+  go.resolution = 0.5;
+  const auto scene = room_2d(0.02);
+  const NdtGrid2D grid(std::span<const Eigen::Vector2f>(scene), go);
+  const Pose2 truth(0.15, -0.1, deg_to_rad(4));
+  const auto src = seen_from(room_2d(0.05), truth);
+  const auto r = ndt_2d(grid, src, Pose2(), tight());
+  ASSERT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
+  EXPECT_NEAR(r.T_target_source.mean().x(), truth.x(), 0.01);
+  EXPECT_NEAR(r.T_target_source.mean().y(), truth.y(), 0.01);
+  EXPECT_NEAR(r.T_target_source.mean().phi(), truth.phi(), deg_to_rad(0.2));
+}
+
+TEST(Ndt2d, CorridorIsDegenerate) {
+  std::vector<Eigen::Vector2f> c;
+  for (int i = 0; i <= 2000; ++i) {
+    c.push_back({-20.0f + 0.02f * i, -1.0f});
+    c.push_back({-20.0f + 0.02f * i, 1.0f});
+  }
+  NdtGridOptions go;
+  go.resolution = 0.5;
+  const NdtGrid2D grid(std::span<const Eigen::Vector2f>(c), go);
+  const auto r = ndt_2d(grid, seen_from(c, Pose2(0.2, 0.05, 0.01)), Pose2(), tight());
+  EXPECT_EQ(r.termination, RegistrationTermination::Degenerate) << r.message;
+}
+
+}  // namespace
+}  // namespace rove
