@@ -10,7 +10,8 @@ namespace rove::cli {
 void add_demo_command(CLI::App& app);
 /// `rove config check FILE...`: load MRPT-style INI files and report.
 void add_config_command(CLI::App& app);
-/// `rove rawlog info FILE [--json]`: stream a rawlog and summarize it.
+/// `rove rawlog info|convert|export-scans|export-odometry|cut|decimate`:
+/// inspect, convert and export rove/MRPT rawlogs and CARMEN logs.
 void add_rawlog_command(CLI::App& app);
 /// `rove map build CONFIG INPUT -o DIR [--section S] [--json]`: build the
 /// maps an MRPT config declares from a rawlog or simplemap.

@@ -15,7 +15,9 @@
 #include "rove/core/progress.h"
 #include "rove/obs/action_collection.h"
 #include "rove/obs/observation.h"
+#include "rove/obs/any_rawlog.h"
 #include "rove/obs/rawlog_reader.h"
+#include "rove/obs/rawlog_tools.h"
 #include "rove/obs/sensory_frame.h"
 #include "rove/serialization/input_file.h"
 
@@ -56,15 +58,46 @@ struct RawlogSummary {
   }
 };
 
-RawlogSummary summarize(const std::string& path, bool show_progress) {
+// Progress of a job that streams one input file: against the file size for
+// plain rove and MRPT files (whose reader reports byte offsets), as a count
+// of entries otherwise (gzip offsets are decompressed bytes; CARMEN logs
+// report lines).
+class FileProgress {
+ public:
+  FileProgress(const std::string& path, bool show, const std::string& label) {
+    if (!show) return;
+    const RawlogFormat format = detect_rawlog_format(path);
+    if (format != RawlogFormat::kCarmen && !is_gzip_file(path)) {
+      total_ = std::filesystem::file_size(path);
+    }
+    progress_.emplace(total_, label + " " + path, std::cerr);
+  }
+  void update(const AnyRawlogReader& reader) {
+    if (!progress_) return;
+    if (total_) {
+      progress_->set(std::min<std::uint64_t>(reader.position(), *total_));
+    } else {
+      progress_->advance();
+    }
+  }
+  RawlogProgressFn fn() {
+    if (!progress_) return {};
+    return [this](const AnyRawlogReader& r) { update(r); };
+  }
+  void finish() {
+    if (progress_) progress_->finish();
+  }
+
+ private:
+  std::optional<std::uint64_t> total_;
+  std::optional<Progress> progress_;
+};
+
+RawlogSummary summarize(const std::string& path, bool show_progress, RawlogFormat& format) {
   RawlogSummary s;
-  RawlogReader reader(path);
-  // Progress against the file size works for plain files only: a gzip
-  // stream reports decompressed offsets, so there only counts are shown.
-  std::optional<std::uint64_t> total;
-  if (!is_gzip_file(path)) total = std::filesystem::file_size(path);
-  std::optional<Progress> progress;
-  if (show_progress) progress.emplace(total, "reading " + path, std::cerr);
+  AnyRawlogReader reader(path);
+  format = reader.format();
+  FileProgress progress(path, show_progress, "reading");
   while (auto entry = reader.next()) {
     ++s.entries;
     std::visit(
@@ -88,16 +121,10 @@ RawlogSummary summarize(const std::string& path, bool show_progress) {
           }
         },
         *entry);
-    if (progress) {
-      if (total) {
-        progress->set(std::min<std::uint64_t>(reader.offset(), *total));
-      } else {
-        progress->advance();
-      }
-    }
+    progress.update(reader);
   }
-  if (progress) progress->finish();
-  s.bytes = reader.offset();
+  progress.finish();
+  s.bytes = format == RawlogFormat::kCarmen ? 0 : reader.position();
   return s;
 }
 
@@ -120,8 +147,9 @@ std::string json_string(const std::string& text) {
   return out + "\"";
 }
 
-void print_text(const std::string& path, const RawlogSummary& s) {
+void print_text(const std::string& path, RawlogFormat format, const RawlogSummary& s) {
   fmt::print("file: {}\n", path);
+  fmt::print("format: {}\n", to_string(format));
   fmt::print("entries: {} ({} action collections, {} sensory frames, {} bare observations)\n",
              s.entries, s.action_collections, s.sensory_frames, s.bare_observations);
   fmt::print("layout: {}\n", s.bare_observations == 0 ? "#1 (actions + sensory frames)"
@@ -145,11 +173,11 @@ void print_text(const std::string& path, const RawlogSummary& s) {
   for (const auto& [kind, n] : s.action_kinds) fmt::print("  {:>8}  {}\n", n, kind);
 }
 
-void print_json(const std::string& path, const RawlogSummary& s) {
-  fmt::print("{{\"file\": {}, \"entries\": {}, \"action_collections\": {}, "
+void print_json(const std::string& path, RawlogFormat format, const RawlogSummary& s) {
+  fmt::print("{{\"file\": {}, \"format\": \"{}\", \"entries\": {}, \"action_collections\": {}, "
              "\"sensory_frames\": {}, \"bare_observations\": {}, \"actions\": {}, "
              "\"observations\": {}, \"uncompressed_bytes\": {}",
-             json_string(path), s.entries, s.action_collections, s.sensory_frames,
+             json_string(path), to_string(format), s.entries, s.action_collections, s.sensory_frames,
              s.bare_observations, s.actions, s.observations_in_frames + s.bare_observations,
              s.bytes);
   if (s.first && s.last) {
@@ -172,26 +200,177 @@ void print_json(const std::string& path, const RawlogSummary& s) {
   fmt::print("]}}\n");
 }
 
+// What a job kept and dropped, per class, on stdout.
+void print_job(const std::string& verb, const std::string& in, const std::string& out,
+               const RawlogJobResult& r) {
+  fmt::print("{} {} ({}) -> {}\n", verb, in, to_string(r.input_format), out);
+  fmt::print("entries: {} read, {} written\n", r.entries_in, r.entries_out);
+  fmt::print("kept:\n");
+  for (const auto& [k, n] : r.kept) fmt::print("  {:>8}  {}\n", n, k);
+  fmt::print("dropped:{}\n", r.dropped.empty() ? " none" : "");
+  for (const auto& [k, n] : r.dropped) fmt::print("  {:>8}  {}\n", n, k);
+}
+
+void print_export(const std::string& in, const RawlogJobResult& r, const std::string& what) {
+  if (r.files.empty()) {
+    fmt::print("{}: no {} found; nothing written\n", in, what);
+    return;
+  }
+  for (std::size_t i = 0; i < r.files.size(); ++i) {
+    fmt::print("wrote {} ({} rows)\n", r.files[i], r.rows[i]);
+  }
+}
+
+RoveRawlogWriterOptions writer_options(bool gzip) {
+  RoveRawlogWriterOptions w;
+  w.gzip = gzip;
+  w.metadata.emplace("tool_version", std::string("rove ") + ROVE_VERSION);
+  return w;
+}
+
+struct JobOptions {
+  std::string in, out;
+  bool progress = true;
+  bool gzip = true;
+  int layout = 0;
+  std::optional<std::uint64_t> from_index, to_index;
+  std::optional<double> from_time, to_time;
+  std::uint64_t every = 1;
+  std::string label;
+};
+
+void add_io(CLI::App* cmd, JobOptions& o, const std::string& out_help) {
+  cmd->add_option("input", o.in, "rove rawlog, MRPT rawlog (plain or gzip) or CARMEN log (plain or bzip2)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("output", o.out, out_help)->required();
+  cmd->add_flag("!--no-progress", o.progress, "Do not report progress on stderr");
+}
+
 }  // namespace
 
 void add_rawlog_command(CLI::App& app) {
-  auto* rawlog = app.add_subcommand("rawlog", "Inspect robot datasets (MRPT rawlogs)");
+  auto* rawlog = app.add_subcommand(
+      "rawlog", "Inspect, convert and export robot datasets (rove and MRPT rawlogs, CARMEN logs)");
   rawlog->require_subcommand(1);
   auto options = std::make_shared<RawlogInfoOptions>();
   auto* info = rawlog->add_subcommand(
       "info", "Stream a rawlog once and count its entries per type and sensor label");
-  info->add_option("file", options->file, "MRPT rawlog (plain or gzip)")
+  info->add_option("file", options->file,
+                   "rove rawlog, MRPT rawlog (plain or gzip) or CARMEN log (plain or bzip2)")
       ->required()
       ->check(CLI::ExistingFile);
   info->add_flag("--json", options->json, "Print one JSON object instead of text");
   info->add_flag("!--no-progress", options->progress, "Do not report progress on stderr");
   info->callback([options] {
-    const RawlogSummary s = summarize(options->file, options->progress);
+    RawlogFormat format = RawlogFormat::kMrpt;
+    const RawlogSummary s = summarize(options->file, options->progress, format);
     if (options->json) {
-      print_json(options->file, s);
+      print_json(options->file, format, s);
     } else {
-      print_text(options->file, s);
+      print_text(options->file, format, s);
     }
+  });
+
+  auto job = std::make_shared<JobOptions>();
+
+  auto* convert = rawlog->add_subcommand(
+      "convert",
+      "Convert an MRPT rawlog, a CARMEN log or a rove rawlog to a rove rawlog (gzip by default), "
+      "reporting what was kept and dropped per class");
+  add_io(convert, *job, "rove rawlog to write");
+  convert->add_option("--layout", job->layout,
+                      "Output layout: 1 = actions + sensory frames, 2 = observations (default: "
+                      "the input's; CARMEN: 1)")
+      ->check(CLI::IsMember({1, 2}));
+  convert->add_flag("!--no-gzip", job->gzip, "Write plain bytes instead of gzip");
+  convert->callback([job] {
+    ConvertOptions o;
+    if (job->layout == 1) o.layout = RawlogLayout::kActionsSensoryFrames;
+    if (job->layout == 2) o.layout = RawlogLayout::kObservations;
+    o.write = writer_options(job->gzip);
+    FileProgress progress(job->in, job->progress, "converting");
+    const RawlogJobResult r = convert_rawlog(job->in, job->out, o, progress.fn());
+    progress.finish();
+    print_job("converted", job->in, job->out, r);
+  });
+
+  auto* scans = rawlog->add_subcommand(
+      "export-scans",
+      "Export 2D laser scans as text with the columns and number format of MRPT's rawlog-edit "
+      "--export-2d-scans-txt (time, ranges, validity[, intensity]); one file per sensor label: "
+      "OUTPUT itself for a single label, else OUTPUT_<label>.txt");
+  add_io(scans, *job, "text file to write (e.g. scans.txt)");
+  scans->add_option("--label", job->label, "Export only this sensor label");
+  scans->callback([job] {
+    TextExportOptions o;
+    o.label = job->label;
+    FileProgress progress(job->in, job->progress, "exporting");
+    const RawlogJobResult r = export_scans_txt(job->in, job->out, o, progress.fn());
+    progress.finish();
+    print_export(job->in, r, "2D scans");
+  });
+
+  auto* odometry = rawlog->add_subcommand(
+      "export-odometry",
+      "Export odometry as text with the columns of MRPT's rawlog-edit --export-odometry-txt "
+      "(time, x, y, phi, encoders, velocities). Layout #1 logs (where rawlog-edit writes no "
+      "odometry) get the actions integrated from the identity, under label ODOMETRY");
+  add_io(odometry, *job, "text file to write (e.g. odometry.txt)");
+  odometry->add_option("--label", job->label, "Export only this sensor label");
+  odometry->callback([job] {
+    TextExportOptions o;
+    o.label = job->label;
+    FileProgress progress(job->in, job->progress, "exporting");
+    const RawlogJobResult r = export_odometry_txt(job->in, job->out, o, progress.fn());
+    progress.finish();
+    print_export(job->in, r, "odometry");
+  });
+
+  auto* cut = rawlog->add_subcommand(
+      "cut",
+      "Keep the entries between two indices (0-based, inclusive) and/or times (seconds since "
+      "the Unix epoch, inclusive); writes a rove rawlog with the input's layout");
+  add_io(cut, *job, "rove rawlog to write");
+  cut->add_option("--from", job->from_index, "First entry index to keep");
+  cut->add_option("--to", job->to_index, "Last entry index to keep");
+  cut->add_option("--from-time", job->from_time, "Keep entries at or after this time (s)");
+  cut->add_option("--to-time", job->to_time, "Keep entries at or before this time (s)");
+  cut->add_flag("!--no-gzip", job->gzip, "Write plain bytes instead of gzip");
+  cut->callback([job] {
+    if (!job->from_index && !job->to_index && !job->from_time && !job->to_time) {
+      throw CLI::ValidationError("cut", "give at least one of --from, --to, --from-time, --to-time");
+    }
+    CutOptions o;
+    o.from_index = job->from_index;
+    o.to_index = job->to_index;
+    o.from_time = job->from_time;
+    o.to_time = job->to_time;
+    o.write = writer_options(job->gzip);
+    FileProgress progress(job->in, job->progress, "cutting");
+    const RawlogJobResult r = cut_rawlog(job->in, job->out, o, progress.fn());
+    progress.finish();
+    print_job("cut", job->in, job->out, r);
+  });
+
+  auto* decimate = rawlog->add_subcommand(
+      "decimate",
+      "Keep one of every K sensory frames (layout #1; the odometry actions in between are "
+      "composed into one) or observations (layout #2; odometry observations are all kept); "
+      "writes a rove rawlog with the input's layout");
+  add_io(decimate, *job, "rove rawlog to write");
+  decimate->add_option("--every", job->every, "K: keep one of every K")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  decimate->add_flag("!--no-gzip", job->gzip, "Write plain bytes instead of gzip");
+  decimate->callback([job] {
+    DecimateOptions o;
+    o.every = job->every;
+    o.write = writer_options(job->gzip);
+    FileProgress progress(job->in, job->progress, "decimating");
+    const RawlogJobResult r = decimate_rawlog(job->in, job->out, o, progress.fn());
+    progress.finish();
+    print_job("decimated", job->in, job->out, r);
   });
 }
 
