@@ -1,0 +1,177 @@
+// Properties and oracles for the occupancy grid.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "rove/core/error.h"
+#include "rove/core/ini.h"
+#include "rove/maps/grid_clearance.h"
+#include "rove/maps/grid_insertion.h"
+#include "rove/maps/grid_likelihood.h"
+#include "rove/maps/mrpt_gridmap.h"
+#include "rove/maps/occupancy_grid.h"
+#include "rove/serialization/memory_stream.h"
+
+namespace rove {
+namespace {
+
+TEST(GridLogOdds, TablesAreMonotoneAndRoundTrip) {
+  const auto& lut = LogOddsLut<std::int8_t>::instance();
+  EXPECT_EQ(lut.p2l(0.5f), 0);
+  EXPECT_FLOAT_EQ(lut.l2p(0), 0.5f);
+  for (int l = -127; l < 127; ++l) {
+    EXPECT_LT(lut.l2p(static_cast<std::int8_t>(l)), lut.l2p(static_cast<std::int8_t>(l + 1)));
+  }
+  EXPECT_EQ(lut.l2p(-128), lut.l2p(-127));
+  for (float p = 0.0f; p <= 1.0f; p += 0.01f) EXPECT_NEAR(lut.l2p(lut.p2l(p)), p, 0.04f);
+}
+
+TEST(OccupancyGrid, ResizeKeepsContentAndWorldPositions) {
+  OccupancyGrid g(-1, 1, -1, 1, 0.1f);
+  g.set_free_probability(g.x_to_idx(0.33), g.y_to_idx(-0.47), 0.9f);
+  const float before = g.free_probability_at(0.33, -0.47);
+  g.resize(-7.3f, 2.0f, -1.0f, 9.1f);
+  EXPECT_LE(g.x_min(), -7.3f);
+  EXPECT_GE(g.y_max(), 9.1f);
+  EXPECT_EQ(g.free_probability_at(0.33, -0.47), before);
+  EXPECT_EQ(g.free_probability_at(-6.0, 8.0), 0.5f);
+  EXPECT_THROW(g.resize(1.0f, 0.0f, 0.0f, 1.0f), InvalidArgument);
+  EXPECT_THROW(OccupancyGrid(0, 1, 0, 1, -0.1f), InvalidArgument);
+  EXPECT_THROW(g.set_free_probability(0, 0, std::nanf("")), InvalidArgument);
+}
+
+TEST(GridClearance, DistanceTransformMatchesBruteForce) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 20; ++trial) {
+    OccupancyGrid g(0, 3.0f + trial % 4, 0, 2.0f + trial % 3, 0.1f);
+    std::uniform_int_distribution<int> ux(0, static_cast<int>(g.size_x()) - 1),
+        uy(0, static_cast<int>(g.size_y()) - 1);
+    const int n_occ = trial % 7;
+    for (int k = 0; k < n_occ; ++k) g.set_free_probability(ux(rng), uy(rng), 0.0f);
+    const auto d2 = squared_distance_to_occupied(g, std::int8_t{0});
+    for (int y = 0; y < static_cast<int>(g.size_y()); ++y) {
+      for (int x = 0; x < static_cast<int>(g.size_x()); ++x) {
+        std::uint64_t best = std::numeric_limits<std::uint64_t>::max();
+        for (int v = 0; v < static_cast<int>(g.size_y()); ++v)
+          for (int u = 0; u < static_cast<int>(g.size_x()); ++u)
+            if (g.cell(u, v) < 0)
+              best = std::min<std::uint64_t>(best, static_cast<std::uint64_t>((u - x) * (u - x) + (v - y) * (v - y)));
+        ASSERT_EQ(d2[g.index(x, y)], best) << x << "," << y;
+      }
+    }
+  }
+}
+
+RangeScan2D straight_scan(float range) {
+  RangeScan2D s;
+  s.aperture = 0.1;
+  s.set_ranges(std::vector<float>(3, range));
+  return s;
+}
+
+TEST(GridInsertion, RayFreesCellsAndMarksHit) {
+  OccupancyGrid g(-5, 5, -5, 5, 0.1f);
+  const auto r = insert_scan(g, straight_scan(2.0f), Pose2(0.05, 0.05, 0.0));
+  ASSERT_TRUE(r.inserted());
+  EXPECT_GT(g.free_probability_at(1.0, 0.05), 0.5f);
+  EXPECT_LT(g.free_probability_at(2.05, 0.05), 0.5f);
+  EXPECT_EQ(g.free_probability_at(3.0, 0.05), 0.5f);
+  RangeScan2D tilted = straight_scan(2.0f);
+  tilted.T_robot_sensor = Pose3(0, 0, 0, 0, 0.3, 0);
+  EXPECT_EQ(insert_scan(g, tilted, Pose2()).status, GridInsertStatus::kNotHorizontal);
+  RangeScan2D bad = straight_scan(2.0f);
+  bad.ranges[1] = std::nanf("");
+  EXPECT_TRUE(insert_scan(g, bad, Pose2()).inserted());  // NaN ray is skipped, not inserted
+}
+
+TEST(GridOptions, LoadFromIniAndReportErrors) {
+  const IniFile ini = IniFile::parse(
+      "[g_insertOpts]\nmaxDistanceInsertion=20\nhorizontalTolerance=1\nwideningBeamsWithDistance=1\n"
+      "[g_likelihoodOpts]\nlikelihoodMethod=lmConsensus\nLF_decimation=3\nfoo=1\n"
+      "[bad]\ndecimation=0\n",
+      "test.ini");
+  GridInsertionOptions io;
+  io.load(ini, "g_insertOpts");
+  EXPECT_EQ(io.max_distance_insertion, 20.0f);
+  EXPECT_NEAR(io.horizontal_tolerance, 3.14159265 / 180, 1e-7);
+  EXPECT_TRUE(io.widening_beams_with_distance);
+  GridLikelihoodOptions lo;
+  lo.load(ini, "g_likelihoodOpts");
+  EXPECT_EQ(lo.method, GridLikelihoodMethod::kConsensus);
+  EXPECT_EQ(lo.lf_decimation, 3u);
+  EXPECT_EQ(ini.unread_keys("g_likelihoodOpts"), std::vector<std::string>{"foo"});
+  GridInsertionOptions b;
+  EXPECT_THROW(b.load(ini, "bad"), ConfigError);
+}
+
+TEST(GridLikelihood, BatchEqualsSingleAndStaleGridIsRejected) {
+  OccupancyGrid g(-5, 5, -5, 5, 0.05f);
+  RangeScan2D s;
+  s.aperture = 3.14159;
+  std::vector<float> r(181);
+  for (std::size_t i = 0; i < r.size(); ++i) r[i] = 2.0f + 0.5f * std::sin(0.1f * i);
+  s.set_ranges(r);
+  insert_scan(g, s, Pose2(0.1, 0.2, 0.3));
+  for (int m = 0; m <= 6; ++m) {
+    GridLikelihoodOptions o;
+    o.method = static_cast<GridLikelihoodMethod>(m);
+    GridLikelihoodModel<std::int8_t> model(g, o);
+    const auto p = model.prepare(s);
+    const std::vector<Pose2> poses{Pose2(0.1, 0.2, 0.3), Pose2(0.3, 0.1, 0.2), Pose2(1e9, 0, 0)};
+    std::vector<double> out(poses.size());
+    model.log_likelihood(p, poses, out);
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      EXPECT_EQ(out[i], model.log_likelihood(p, poses[i])) << m;
+      EXPECT_FALSE(std::isnan(out[i])) << m;
+    }
+    if (m == 4) {
+      EXPECT_GT(out[0], out[1]);  // the true pose explains the scan best
+    }
+  }
+  GridLikelihoodModel<std::int8_t> model(g);
+  g.fill(0.5f);
+  EXPECT_THROW(model.log_likelihood(model.prepare(s), Pose2()), InvalidArgument);
+  model.refresh();
+  EXPECT_NO_THROW(model.log_likelihood(model.prepare(s), Pose2()));
+}
+
+TEST(MrptGridmap, TruncatedAndLyingFilesGiveParseErrors) {
+  const std::string path = ROVE_SOURCE_DIR "/modules/maps/tests/data/grid_uwb_demo.gridmap.gz";
+  EXPECT_NO_THROW(load_mrpt_gridmap(path));
+  EXPECT_THROW(load_mrpt_gridmap(path + ".missing"), IoError);
+  // A header claiming 100000 x 100000 cells in a few bytes.
+  std::vector<std::uint8_t> b = {0x93};
+  for (char c : std::string("COccupancyGridMap2D")) b.push_back(static_cast<std::uint8_t>(c));
+  b.push_back(3);
+  b.push_back(8);
+  const auto put32 = [&](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) b.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+  };
+  const auto putf = [&](float f) {
+    std::uint32_t v;
+    std::memcpy(&v, &f, 4);
+    put32(v);
+  };
+  put32(100000);
+  put32(100000);
+  putf(0);
+  putf(5000);
+  putf(0);
+  putf(5000);
+  putf(0.05f);
+  MemoryInStream in(std::vector<std::byte>(reinterpret_cast<std::byte*>(b.data()),
+                                           reinterpret_cast<std::byte*>(b.data()) + b.size()),
+                    "lying.gridmap");
+  InArchive ar(in);
+  EXPECT_THROW(read_mrpt_gridmap(ar), ParseError);
+}
+
+}  // namespace
+}  // namespace rove
