@@ -223,7 +223,8 @@ bool Engine<PoseT>::setup(GraphOptimizerResult& result) {
   result.num_vertices_optimized = static_cast<std::size_t>(n_);
   if (n_ == 0) return true;
 
-  // Fill-reducing order of the vertex blocks: AMD on the vertex graph.
+  // Fill-reducing order of the vertex blocks (AMD or METIS on the vertex graph):
+    // ordering blocks rather than scalars keeps each vertex contiguous.
   {
     std::vector<Eigen::Triplet<int>> trip;
     trip.reserve(edges_.size() * 2 + static_cast<std::size_t>(n_));
@@ -237,12 +238,11 @@ bool Engine<PoseT>::setup(GraphOptimizerResult& result) {
     }
     Eigen::SparseMatrix<int, Eigen::ColMajor, int> pattern(n_, n_);
     pattern.setFromTriplets(trip.begin(), trip.end());
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
-    Eigen::AMDOrdering<int> amd;
-    amd(pattern, perm);  // perm.indices()[new] = old
+    const std::vector<int> perm =
+        detail::fill_reducing_order(pattern, solver_.type() == LinearSolverType::Cholmod);
     pos_slot_.resize(static_cast<std::size_t>(n_));
     for (int p = 0; p < n_; ++p) {
-      const int old_var = perm.indices()[p];
+      const int old_var = perm[static_cast<std::size_t>(p)];
       pos_slot_[p] = var_slot[old_var];
       slot_pos_[var_slot[old_var]] = p;
     }

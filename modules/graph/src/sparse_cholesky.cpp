@@ -51,9 +51,8 @@ SparseCholesky::SparseCholesky(LinearSolverType type) : impl_(std::make_unique<I
   if (type_ == LinearSolverType::Cholmod) {
     cholmod_start(&impl_->common);
     impl_->started = true;
-    impl_->common.nmethods = 2;
+    impl_->common.nmethods = 1;
     impl_->common.method[0].ordering = CHOLMOD_NATURAL;
-    impl_->common.method[1].ordering = CHOLMOD_METIS;
     impl_->common.postorder = 0;
     impl_->common.supernodal = CHOLMOD_AUTO;
     impl_->common.print = 0;
@@ -138,6 +137,45 @@ std::size_t SparseCholesky::factor_nonzeros() const {
   }
 #endif
   return static_cast<std::size_t>(impl_->eigen.matrixL().nestedExpression().nonZeros());
+}
+
+std::vector<int> fill_reducing_order(const Eigen::SparseMatrix<int, Eigen::ColMajor, int>& pattern,
+                                     bool use_cholmod) {
+  const int n = static_cast<int>(pattern.rows());
+  std::vector<int> perm(static_cast<std::size_t>(n));
+#ifdef ROVE_HAVE_CHOLMOD
+  if (use_cholmod && n > 0) {
+    // Upper triangle of the pattern as a CHOLMOD matrix of ones.
+    Eigen::SparseMatrix<double, Eigen::ColMajor, int> upper =
+        pattern.cast<double>().triangularView<Eigen::Upper>();
+    upper.makeCompressed();
+    cholmod_common c;
+    cholmod_start(&c);
+    c.print = 0;
+    c.error_handler = nullptr;
+    c.nmethods = 2;
+    c.method[0].ordering = CHOLMOD_AMD;
+    c.method[1].ordering = CHOLMOD_METIS;
+    c.postorder = 1;
+    cholmod_sparse a = view_of(upper);
+    cholmod_factor* f = cholmod_analyze(&a, &c);
+    const bool ok = f != nullptr;
+    if (ok) {
+      const int* p = static_cast<const int*>(f->Perm);
+      std::copy(p, p + n, perm.begin());
+      cholmod_free_factor(&f, &c);
+    }
+    cholmod_finish(&c);
+    if (ok) return perm;
+  }
+#else
+  (void)use_cholmod;
+#endif
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> p;
+  Eigen::AMDOrdering<int> amd;
+  amd(pattern, p);  // p.indices()[new] = old
+  for (int k = 0; k < n; ++k) perm[static_cast<std::size_t>(k)] = p.indices()[k];
+  return perm;
 }
 
 bool cholmod_built() noexcept {

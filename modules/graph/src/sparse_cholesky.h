@@ -6,12 +6,19 @@
 #include <cstddef>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include <Eigen/SparseCore>
 
 #include "rove/graph/optimizer.h"
 
 namespace rove::detail {
+
+/// Fill-reducing order of a symmetric pattern (n×n, both triangles or one):
+/// perm[new] = old. With CHOLMOD: the best of AMD and METIS nested dissection
+/// (fewest nonzeros in the factor); without: Eigen's AMD.
+std::vector<int> fill_reducing_order(const Eigen::SparseMatrix<int, Eigen::ColMajor, int>& pattern,
+                                     bool use_cholmod);
 
 class SparseCholesky {
  public:

@@ -89,7 +89,7 @@ struct GraphOptimizerOptions {
   GraphSolver solver = GraphSolver::LevenbergMarquardt;  ///< method
   LinearSolverType linear_solver = LinearSolverType::Auto;  ///< Cholesky back-end
   int max_iterations = 100;          ///< linear solves at most (≥ 0)
-  double function_tolerance = 1e-10; ///< stop when an accepted step lowers χ² by ≤ this × χ²
+  double function_tolerance = 1e-8;  ///< stop when an accepted step lowers χ² by ≤ this × χ²
   double gradient_tolerance = 1e-12; ///< stop when max |Jᵀ W e| ≤ this
   double step_tolerance = 1e-12;     ///< stop when ‖δ‖ ≤ this × (‖t‖ + this), t all translations
   double initial_lambda = 1e-5;      ///< LM: initial λ, relative to diag(JᵀWJ)
