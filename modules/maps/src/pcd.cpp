@@ -513,14 +513,14 @@ std::vector<std::uint8_t> write_pcd_to_memory(const PointCloud& cloud, const Pcd
     }
     out.insert(out.end(), body.begin(), body.end());
   } else if (o.format == PcdFormat::kBinary) {
-    const std::size_t at = out.size();
-    out.resize(at + n * nf * 4);
-    std::uint8_t* p = out.data() + at;
+    std::vector<std::uint8_t> body(n * nf * 4);
+    std::uint8_t* p = body.data();
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t k = 0; k < nf; ++k, p += 4) {
         const float v = field(i, k);
         std::memcpy(p, &v, 4);
       }
+    out.insert(out.end(), body.begin(), body.end());
   } else {
     const std::uint64_t usize = std::uint64_t{n} * nf * 4;
     ROVE_CHECK_MSG(usize <= std::numeric_limits<std::uint32_t>::max(),

@@ -1,3 +1,10 @@
+// GCC 12 at -O3 reports -Wmaybe-uninitialized inside Eigen's JacobiSVD once
+// it is inlined here (a false positive of its inliner: SVDBase's members are
+// written by compute() before any read). The pragma precedes the includes
+// because GCC matches it against the location inside Eigen's headers.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include "rove/registration/ndt.h"
 
 #include <algorithm>
@@ -238,6 +245,8 @@ Eval<M> evaluate(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float,
     Eigen::Matrix<double, M::D, M::P> J = Eigen::Matrix<double, M::D, M::P>::Zero();
     J.template leftCols<M::D>().setIdentity();
     typename M::Vec Hp[M::A][M::A];
+    for (auto& row : Hp)
+      for (auto& v : row) v.setZero();
     for (std::size_t i = b; i < e; ++i) {
       if (!source[i].allFinite()) continue;
       const typename M::Vec x = source[i].template cast<double>();
