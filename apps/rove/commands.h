@@ -13,6 +13,8 @@ void add_config_command(CLI::App& app);
 /// `rove rawlog info|convert|export-scans|export-odometry|cut|decimate`:
 /// inspect, convert and export rove/MRPT rawlogs and CARMEN logs.
 void add_rawlog_command(CLI::App& app);
+/// `rove icp-slam [CONFIG] [RAWLOG] [-o DIR] [--json]`: build a map with ICP-SLAM.
+void add_icp_slam_command(CLI::App& app);
 /// `rove map build CONFIG INPUT -o DIR [--section S] [--json]`: build the
 /// maps an MRPT config declares from a rawlog or simplemap.
 void add_map_command(CLI::App& app);

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   rove::cli::add_demo_command(app);
   rove::cli::add_config_command(app);
   rove::cli::add_rawlog_command(app);
+  rove::cli::add_icp_slam_command(app);
   rove::cli::add_map_command(app);
   try {
     app.parse(argc, argv);
