@@ -452,6 +452,13 @@ double GridLikelihoodModel<Cell>::eval_one(const PreparedGridScan& s, const Pose
       return ret;
     }
     case GridLikelihoodMethod::kCellsDifference: {
+      // Far from the origin, float cannot hold a 20 m grid around the pose:
+      // no cell of this grid can be compared there.
+      if (!(static_cast<float>(x0 + 10) > static_cast<float>(x0 - 10)) ||
+          !(static_cast<float>(y0 + 10) > static_cast<float>(y0 - 10)) ||
+          std::fabs(x0) + std::fabs(y0) > 1e6) {
+        return 0.0;
+      }
       OccupancyGridT<Cell> cmp(static_cast<float>(x0 - 10), static_cast<float>(x0 + 10),
                                static_cast<float>(y0 - 10), static_cast<float>(y0 + 10),
                                g.resolution());
