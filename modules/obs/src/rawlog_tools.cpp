@@ -257,7 +257,6 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
   // #2 → #1 state.
   std::optional<Pose2> odometry_latest, odometry_at_last_frame;
   Timestamp odometry_latest_time;
-  std::optional<EncoderTicks> ticks_since;
   auto frame = std::make_shared<SensoryFrame>();
   auto flush_frame = [&] {
     if (frame->empty()) return;

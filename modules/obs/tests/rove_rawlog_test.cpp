@@ -28,6 +28,7 @@
 #include "rove/obs/rawlog_reader.h"
 #include "rove/obs/robot_movement_2d.h"
 #include "rove/obs/rove_rawlog.h"
+#include "rove/serialization/input_file.h"
 #include "rove/obs/sensory_frame.h"
 #include "rove/poses/angle.h"
 #include "rove/serialization/class_registry.h"
