@@ -30,6 +30,26 @@ inline void update_occupied(Cell* c, int obs, int thres) {
 
 float float_round(float v) { return std::round(v); }
 
+// The free cells of one thin ray: n_steps fixed-point DDA steps from cell
+// (cx, cy). Kept small and on locals: stores through Cell* (a char type) may
+// alias anything, and the caller's many live values would spill otherwise.
+template <GridCell Cell>
+void trace_free(Cell* data, unsigned sx, unsigned sy, int cx, int cy, int fr_dx, int fr_dy,
+                int n_steps, int obs, int thres) {
+  int fx = cx * kFrOne, fy = cy * kFrOne;
+  for (int s = 0; s < n_steps; ++s) {
+    if (static_cast<unsigned>(cx) < sx && static_cast<unsigned>(cy) < sy) [[likely]] {
+      Cell* c = data + static_cast<std::size_t>(cx) + static_cast<std::size_t>(cy) * sx;
+      const int v = *c;
+      *c = static_cast<Cell>(v < thres ? v + obs : LogOddsTraits<Cell>::kMax);
+    }
+    fx += fr_dx;
+    fy += fr_dy;
+    cx = fx >> kFrBits;
+    cy = fy >> kFrBits;
+  }
+}
+
 struct LocalPoint {
   float x = 0, y = 0;
   int cx = 0, cy = 0;
@@ -251,16 +271,9 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
                                          float_round(static_cast<float>(adx * kFrOne) * inv_n));
       const int fr_dy = static_cast<int>((dy < 0 ? -1.0f : 1.0f) *
                                          float_round(static_cast<float>(ady * kFrOne) * inv_n));
-      int fx = cx0 * kFrOne, fy = cy0 * kFrOne;
-      int cx = cx0, cy = cy0;
       const int obs = ok ? ins.obs_free : ins.obs_noecho_free;
-      for (int s = 0; s < n_steps; ++s) {
-        ins.free_cell(cx, cy, obs);
-        fx += fr_dx;
-        fy += fr_dy;
-        cx = fx >> kFrBits;
-        cy = fy >> kFrBits;
-      }
+      trace_free(ins.grid_data, grid.size_x(), grid.size_y(), cx0, cy0, fr_dx, fr_dy, n_steps,
+                 obs, ins.thres_free);
       if (ok && scan.ranges[si] < max_dist) ins.occupied_cell(trg_cx, trg_cy);
       ++result.rays_inserted;
     }
