@@ -34,7 +34,7 @@ float float_round(float v) { return std::round(v); }
 // (cx, cy). Kept small and on locals: stores through Cell* (a char type) may
 // alias anything, and the caller's many live values would spill otherwise.
 template <GridCell Cell>
-void trace_free(Cell* data, unsigned sx, unsigned sy, int cx, int cy, int fr_dx, int fr_dy,
+[[gnu::noinline]] void trace_free(Cell* data, unsigned sx, unsigned sy, int cx, int cy, int fr_dx, int fr_dy,
                 int n_steps, int obs, int thres) {
   int fx = cx * kFrOne, fy = cy * kFrOne;
   for (int s = 0; s < n_steps; ++s) {
