@@ -18,5 +18,11 @@ void add_icp_slam_command(CLI::App& app);
 /// `rove map build CONFIG INPUT -o DIR [--section S] [--json]`: build the
 /// maps an MRPT config declares from a rawlog or simplemap.
 void add_map_command(CLI::App& app);
+/// `rove graph-slam -i IN [-o OUT] [--solver ...] [--init ...] [--info] [--plot PNG] [--json]`:
+/// optimize or inspect a 2D/3D pose graph.
+void add_graph_slam_command(CLI::App& app);
+/// `rove align SOURCE TARGET [--method icp|point-to-plane|gicp|ndt] [--init ...] [--voxel L]`:
+/// register two point clouds and print T_target_source.
+void add_align_command(CLI::App& app);
 
 }  // namespace rove::cli

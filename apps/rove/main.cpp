@@ -16,7 +16,9 @@ int main(int argc, char** argv) {
   rove::cli::add_config_command(app);
   rove::cli::add_rawlog_command(app);
   rove::cli::add_icp_slam_command(app);
+  rove::cli::add_graph_slam_command(app);
   rove::cli::add_map_command(app);
+  rove::cli::add_align_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
