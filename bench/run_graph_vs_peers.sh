@@ -4,7 +4,9 @@
 # SuiteSparse) and MRPT 2.5.8's `graph-slam --levmarq`, whole process, on the
 # pose-graph datasets in ../shared/datasets/posegraph. Prints wall time, peak
 # RSS and final χ² per tool, and the speed ratios. Each tool runs RUNS times
-# (default 3), interleaved; the median time is reported.
+# (default 3), interleaved; the median is reported. Wall time ("s") is the
+# goal's measure; CPU time (user + system, "cpu") is printed beside it because
+# on a shared, loaded machine wall time mostly measures the wait for a core.
 #
 #   bench/run_graph_vs_peers.sh [BUILD_DIR]   (default build/bench-graph)
 #
@@ -15,12 +17,12 @@ data=../shared/datasets/posegraph
 [ -d "$data" ] || { echo "missing $data (the pose-graph datasets)" >&2; exit 1; }
 build=${1:-build/bench-graph}
 runs=${RUNS:-3}
-if [ ! -x "$build/apps/rove/rove" ] || [ ! -x "$build/tools/ceres_graph_reference/ceres_graph_reference" ]; then
+if [ ! -x "$build/apps/rove" ] || [ ! -x "$build/tools/ceres_graph_reference/ceres_graph_reference" ]; then
   cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DROVE_BUILD_TESTS=OFF \
     -DROVE_BUILD_APPS=ON -DROVE_BUILD_PEER_TOOLS=ON >/dev/null
   cmake --build "$build" --target rove ceres_graph_reference -j2 >/dev/null
 fi
-rove=$build/apps/rove/rove
+rove=$build/apps/rove
 ceres=$build/tools/ceres_graph_reference/ceres_graph_reference
 command -v graph-slam >/dev/null || { echo "MRPT's graph-slam (mrpt-apps) is missing" >&2; exit 1; }
 work=$(mktemp -d)
@@ -35,16 +37,23 @@ M3500 M3500.g2o 2d as-is
 sphere2500 sphere2500.txt 3d as-is
 torus3D torus3D.g2o 3d spanning-tree"
 
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
-timed() {  # timed OUTFILE cmd... → prints "seconds KB" of the whole process
+median() { sort -g | awk '{a[NR]=$1} END {if (NR) print a[int((NR+1)/2)]}'; }
+timed() {  # timed OUTFILE cmd... → prints "wall_s KB cpu_s" of the whole process, or "fail"
   local out=$1; shift
-  /usr/bin/time -f "%e %M" -o "$work/time" "$@" >"$out" 2>&1 || true
-  cat "$work/time"
+  if /usr/bin/time -f "%e %M %U %S" -o "$work/time" "$@" >"$out" 2>&1; then
+    awk '{printf "%s %s %.3f\n", $1, $2, $3 + $4}' "$work/time"
+  else
+    echo "fail fail fail"
+  fi
 }
+col() { cut -d' ' -f"$1" "$2" | grep -v fail | median; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "" || b <= 0) print "-"; else printf "%.1fx", a / b }'; }
+mb() { awk -v k="$1" 'BEGIN { if (k == "") print "-"; else printf "%.1f", k / 1024 }'; }
 
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'), load $(cut -d' ' -f1 /proc/loadavg)"
-printf '%-14s %-8s | %-22s %-8s %-9s | %-22s %-8s %-9s | %-8s %-9s | %-7s %-7s\n' \
-  dataset init "rove chi2" "rove s" "rove MB" "ceres chi2" "ceres s" "ceres MB" "mrpt s" "mrpt MB" "ceres/r" "mrpt/r"
+printf '%-13s %-13s| %-16s %-6s %-6s %-6s| %-16s %-6s %-6s %-6s| %-6s %-6s %-6s| %-13s %-13s\n' \
+  dataset init "rove chi2" "s" "cpu" "MB" "ceres chi2" "s" "cpu" "MB" "mrpt s" "cpu" "MB" "ceres/rove" "mrpt/rove"
+echo "                                                                                                    (wall, cpu)   (wall, cpu)"
 echo "$sets" | while read -r name file dim init; do
   in=$data/$file
   : >"$work/t_rove"; : >"$work/t_ceres"; : >"$work/t_mrpt"
@@ -53,17 +62,15 @@ echo "$sets" | while read -r name file dim init; do
     timed "$work/ceres.out" "$ceres" -i "$in" --init "$init" -o "$work/ceres_out.g2o" >>"$work/t_ceres"
     timed "$work/mrpt.out" graph-slam --levmarq --$dim -i "$in" -o "$work/mrpt_out.graph" >>"$work/t_mrpt"
   done
-  rchi=$(grep -o '"final_chi2": [^,]*' "$work/rove.out" | cut -d' ' -f2)
-  cchi=$(grep -o 'chi2_final [^ ]*' "$work/ceres.out" | cut -d' ' -f2)
-  rs=$(cut -d' ' -f1 "$work/t_rove" | median); rm=$(cut -d' ' -f2 "$work/t_rove" | median)
-  cs=$(cut -d' ' -f1 "$work/t_ceres" | median); cm=$(cut -d' ' -f2 "$work/t_ceres" | median)
-  ms=$(cut -d' ' -f1 "$work/t_mrpt" | median); mm=$(cut -d' ' -f2 "$work/t_mrpt" | median)
-  printf '%-14s %-8s | %-22s %-8s %-9s | %-22s %-8s %-9s | %-8s %-9s | %-7s %-7s\n' \
-    "$name" "$init" "$rchi" "$rs" "$(awk "BEGIN{printf \"%.1f\", $rm/1024}")" \
-    "$cchi" "$cs" "$(awk "BEGIN{printf \"%.1f\", $cm/1024}")" \
-    "$ms" "$(awk "BEGIN{printf \"%.1f\", $mm/1024}")" \
-    "$(awk "BEGIN{printf \"%.1fx\", $cs/($rs>0?$rs:0.01)}")" \
-    "$(awk "BEGIN{printf \"%.1fx\", $ms/($rs>0?$rs:0.01)}")"
+  rchi=$(grep -o '"final_chi2": [^,]*' "$work/rove.out" | cut -d' ' -f2 || true)
+  cchi=$(grep -o 'chi2_final [^ ]*' "$work/ceres.out" | cut -d' ' -f2 || true)
+  rs=$(col 1 "$work/t_rove"); rm=$(col 2 "$work/t_rove"); rc=$(col 3 "$work/t_rove")
+  cs=$(col 1 "$work/t_ceres"); cm=$(col 2 "$work/t_ceres"); cc=$(col 3 "$work/t_ceres")
+  ms=$(col 1 "$work/t_mrpt"); mm=$(col 2 "$work/t_mrpt"); mc=$(col 3 "$work/t_mrpt")
+  printf '%-13s %-13s| %-16.10g %-6s %-6s %-6s| %-16.10g %-6s %-6s %-6s| %-6s %-6s %-6s| %-13s %-13s\n' \
+    "$name" "$init" "${rchi:-0}" "$rs" "$rc" "$(mb "$rm")" "${cchi:-0}" "$cs" "$cc" "$(mb "$cm")" \
+    "${ms:-fail}" "${mc:-fail}" "$(mb "$mm")" \
+    "$(ratio "$cs" "$rs"), $(ratio "$cc" "$rc")" "$(ratio "$ms" "$rs"), $(ratio "$mc" "$rc")"
   awk -v a="$rchi" -v b="$cchi" -v n="$name" 'BEGIN { d = (a - b) / b; if (d < 0) d = -d;
     if (d > 1e-6) printf "  WARNING %s: rove and Ceres chi2 differ by %.2g (relative)\n", n, d }'
 done
