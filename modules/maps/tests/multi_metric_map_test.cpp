@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <regex>
+#include <cctype>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -24,12 +24,30 @@ namespace fs = std::filesystem;
 const std::string kMrptConfigs = "/usr/share/mrpt/config_files";
 
 /// MRPT 2.5.8's registered map names (short aliases): a `<name>_count` key
-/// marks a section as a multi-metric map declaration.
-const std::regex kCountKey(
-    "(occupancyGrid|gasGrid|landmarksMap|beaconMap|pointsMap|colourPointsMap|heightMap|dem|"
-    "weightedPointsMap|octoMap|colourOctoMap|colorOctoMap|wifiGrid|reflectivityMap|dem_mrf|"
-    "C[A-Za-z0-9_]+|mrpt::maps::C[A-Za-z0-9_]+)_count",
-    std::regex::icase);
+/// marks a section as a multi-metric map declaration. Class names
+/// (`C...`, `mrpt::maps::C...`) count too.
+bool is_count_key(const std::string& key) {
+  auto lower = [](std::string s) {
+    for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+  };
+  const std::string k = lower(key);
+  const std::string suffix = "_count";
+  if (k.size() <= suffix.size() || k.compare(k.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return false;
+  const std::string stem = k.substr(0, k.size() - suffix.size());
+  static const std::set<std::string> names = {
+      "occupancygrid", "gasgrid",      "landmarksmap",   "beaconmap",     "pointsmap",
+      "colourpointsmap", "heightmap",  "dem",            "weightedpointsmap", "octomap",
+      "colouroctomap", "coloroctomap", "wifigrid",       "reflectivitymap", "dem_mrf"};
+  if (names.count(stem)) return true;
+  std::string cls = stem;
+  if (cls.rfind("mrpt::maps::", 0) == 0) cls = cls.substr(12);
+  if (cls.size() < 2 || cls[0] != 'c') return false;
+  return std::all_of(cls.begin() + 1, cls.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
+}
 
 struct Declaration {
   fs::path file;
@@ -47,7 +65,7 @@ std::vector<Declaration> find_declarations() {
       Declaration d{e.path(), sec, 0, {}};
       bool found = false;
       for (const auto& key : ini.keys(sec)) {
-        if (!std::regex_match(key, kCountKey)) continue;
+        if (!is_count_key(key)) continue;
         found = true;
         const auto n = ini.get<std::uint64_t>(sec, key);
         d.maps += n;
