@@ -96,7 +96,7 @@ OccupancyGrid load_grid(const std::string& path, ArchiveLimits limits) {
       magic != kRoveGridMagic) {
     ar.fail_at(0, "magic", "not a rove grid: the file does not start with \"ROVEGRID\"");
   }
-  OccupancyGrid grid;
+  OccupancyGrid grid(0.0f, 1.0f, 0.0f, 1.0f, 1.0f);  // one cell, replaced by load
   load(ar, grid);
   if (!ar.at_end()) ar.fail("end", "bytes after the grid record");
   return grid;

@@ -125,7 +125,7 @@ OccupancyGrid grid_from_image(const GrayImage& image, const RosMapYaml& yaml,
     std::int8_t* out = cells.data() + static_cast<std::size_t>(cy) * w;
     for (std::uint32_t cx = 0; cx < w; ++cx) out[cx] = cell_of[row[cx]];
   }
-  OccupancyGrid grid;
+  OccupancyGrid grid(0.0f, 1.0f, 0.0f, 1.0f, 1.0f);  // one cell, replaced below
   grid.assign(x0, x1, y0, y1, res, w, h, std::move(cells));
   grid.set_empty(false);
   return grid;
