@@ -1,6 +1,8 @@
 #include "rove/maps/grid_insertion.h"
 
 #include <algorithm>
+#include <cstddef>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -31,8 +33,10 @@ inline void update_occupied(Cell* c, int obs, int thres) {
 float float_round(float v) { return std::round(v); }
 
 // The free cells of one thin ray: n_steps fixed-point DDA steps from cell
-// (cx, cy). Kept small and on locals: stores through Cell* (a char type) may
-// alias anything, and the caller's many live values would spill otherwise.
+// (cx, cy), each checked against the grid (the slow path: a ray that leaves
+// the grid, e.g. from a sensor outside it; MRPT writes out of bounds there).
+// Kept small and on locals: stores through Cell* (a char type) may alias
+// anything, and the caller's many live values would spill otherwise.
 template <GridCell Cell>
 [[gnu::noinline]] void trace_free(Cell* data, unsigned sx, unsigned sy, int cx, int cy, int fr_dx, int fr_dy,
                 int n_steps, int obs, int thres) {
@@ -47,6 +51,58 @@ template <GridCell Cell>
     fy += fr_dy;
     cx = fx >> kFrBits;
     cy = fy >> kFrBits;
+  }
+}
+
+// One thin ray of a scan, in MRPT's order: DDA steps and free update, then
+// the occupied update of its end cell (occupied < 0: none).
+struct ThinRay {
+  int fr_dx = 0, fr_dy = 0, n_steps = 0, obs = 0;
+  std::ptrdiff_t occupied = -1;
+};
+
+// The same cells and updates as trace_free for a ray known to stay inside
+// the grid, without per-cell checks: the DDA moves exactly one cell per step
+// along its major axis (|fr| = kFrOne there, see trace_rays_fast), so the
+// major coordinate becomes a pointer stride and only the minor coordinate
+// keeps a fixed-point accumulator.
+template <GridCell Cell>
+inline void free_run(Cell* data, std::ptrdiff_t major, std::ptrdiff_t major_stride,
+                     std::ptrdiff_t minor_stride, int f, int fr_minor, int n_steps, int obs,
+                     int thres) {
+  constexpr int kMax = LogOddsTraits<Cell>::kMax;
+#pragma GCC unroll 4
+  for (int s = 0; s < n_steps; ++s) {
+    Cell* p = data + major + static_cast<std::ptrdiff_t>(f >> kFrBits) * minor_stride;
+    // v < thres ? v + obs : kMax without a branch: whether a cell is
+    // saturated is data, and a mispredicted branch per cell costs more than
+    // the whole update.
+    const int v = *p;
+    const int keep = -static_cast<int>(v < thres);  // all ones or zero
+    *p = static_cast<Cell>(kMax + ((v + obs - kMax) & keep));
+    major += major_stride;
+    f += fr_minor;
+  }
+}
+
+// All rays of a scan when every visited cell is inside the grid (checked by
+// the caller). Same cells in the same order as trace_free + occupied_cell.
+template <GridCell Cell>
+[[gnu::noinline]] void trace_rays_fast(Cell* data, std::ptrdiff_t sx, int cx0, int cy0,
+                                       const ThinRay* rays, std::size_t n_rays, int thres_free,
+                                       int obs_occupied, int thres_occupied) {
+  for (std::size_t k = 0; k < n_rays; ++k) {
+    const ThinRay& r = rays[k];
+    if (r.fr_dx == kFrOne || r.fr_dx == -kFrOne) {
+      // Major axis x: cell (cx0 ± s, (cy0·kFrOne + s·fr_dy) >> kFrBits).
+      free_run(data, cx0, r.fr_dx > 0 ? 1 : -1, sx, cy0 * kFrOne, r.fr_dy, r.n_steps, r.obs,
+               thres_free);
+    } else {
+      // Major axis y: cell ((cx0·kFrOne + s·fr_dx) >> kFrBits, cy0 ± s).
+      free_run(data, cy0 * sx, r.fr_dy > 0 ? sx : -sx, 1, cx0 * kFrOne, r.fr_dx, r.n_steps,
+               r.obs, thres_free);
+    }
+    if (r.occupied >= 0) update_occupied(data + r.occupied, obs_occupied, thres_occupied);
   }
 }
 
@@ -255,6 +311,13 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
     // 2a) Thin rays: fixed-point DDA from the sensor cell to the end cell.
     const int cx0 = grid.x_to_idx(px);
     const int cy0 = grid.y_to_idx(py);
+    const auto sx = static_cast<std::int64_t>(grid.size_x());
+    const auto sy = static_cast<std::int64_t>(grid.size_y());
+    // The fast path needs every visited cell inside the grid and the
+    // fixed-point accumulators far from overflow.
+    bool fast = grid.contains(cx0, cy0) && sx < (1 << 21) && sy < (1 << 21);
+    std::vector<ThinRay> rays;
+    rays.reserve(scan.size() / static_cast<std::size_t>(step) + 1);
     for (int i = 0; i < n_rays; i += step) {
       const auto si = static_cast<std::size_t>(i);
       const bool ok = ins.valid(si);
@@ -267,15 +330,37 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
       const int n_steps = std::max(adx, ady);
       if (n_steps == 0) continue;
       const float inv_n = 1.0f / static_cast<float>(n_steps);
-      const int fr_dx = static_cast<int>((dx < 0 ? -1.0f : 1.0f) *
-                                         float_round(static_cast<float>(adx * kFrOne) * inv_n));
-      const int fr_dy = static_cast<int>((dy < 0 ? -1.0f : 1.0f) *
-                                         float_round(static_cast<float>(ady * kFrOne) * inv_n));
-      const int obs = ok ? ins.obs_free : ins.obs_noecho_free;
-      trace_free(ins.grid_data, grid.size_x(), grid.size_y(), cx0, cy0, fr_dx, fr_dy, n_steps,
-                 obs, ins.thres_free);
-      if (ok && scan.ranges[si] < max_dist) ins.occupied_cell(trg_cx, trg_cy);
-      ++result.rays_inserted;
+      ThinRay r;
+      r.fr_dx = static_cast<int>((dx < 0 ? -1.0f : 1.0f) *
+                                 float_round(static_cast<float>(adx * kFrOne) * inv_n));
+      r.fr_dy = static_cast<int>((dy < 0 ? -1.0f : 1.0f) *
+                                 float_round(static_cast<float>(ady * kFrOne) * inv_n));
+      r.n_steps = n_steps;
+      r.obs = ok ? ins.obs_free : ins.obs_noecho_free;
+      if (ok && scan.ranges[si] < max_dist) r.occupied = static_cast<std::ptrdiff_t>(grid.index(trg_cx, trg_cy));
+      if (fast) {
+        // Each coordinate of the DDA is monotone in the step, so the ray
+        // stays inside the grid if its first and last cells do.
+        const std::int64_t last = n_steps - 1;
+        const std::int64_t lx = (std::int64_t{cx0} * kFrOne + last * r.fr_dx) >> kFrBits;
+        const std::int64_t ly = (std::int64_t{cy0} * kFrOne + last * r.fr_dy) >> kFrBits;
+        fast = lx >= 0 && lx < sx && ly >= 0 && ly < sy &&
+               (std::abs(r.fr_dx) == kFrOne || std::abs(r.fr_dy) == kFrOne);
+      }
+      rays.push_back(r);
+    }
+    result.rays_inserted = rays.size();
+    if (fast) {
+      trace_rays_fast(ins.grid_data, static_cast<std::ptrdiff_t>(sx), cx0, cy0, rays.data(),
+                      rays.size(), ins.thres_free, ins.obs_occupied, ins.thres_occupied);
+    } else {
+      for (const ThinRay& r : rays) {
+        trace_free(ins.grid_data, grid.size_x(), grid.size_y(), cx0, cy0, r.fr_dx, r.fr_dy,
+                   r.n_steps, r.obs, ins.thres_free);
+        if (r.occupied >= 0) {
+          update_occupied(ins.grid_data + r.occupied, ins.obs_occupied, ins.thres_occupied);
+        }
+      }
     }
     return result;
   }
