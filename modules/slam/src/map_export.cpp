@@ -41,6 +41,12 @@ void write_png(const std::string& path, int width, int height, int channels,
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
                channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  // The pictures are mostly one flat colour: filtering buys nothing and a
+  // fast deflate level is within a few percent of the default size, at a
+  // tenth of the time (libpng's per-row filter search was half of the
+  // whole `rove icp-slam` run on the demo).
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
+  png_set_compression_level(png, 1);
   png_write_info(png, info);
   const std::size_t stride = static_cast<std::size_t>(width) * static_cast<std::size_t>(channels);
   for (int y = 0; y < height; ++y) {
