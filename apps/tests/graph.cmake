@@ -17,10 +17,10 @@ add_test(NAME cli.graph_slam_reread COMMAND rove graph-slam --info
 set_tests_properties(cli.graph_slam_reread PROPERTIES LABELS cli DEPENDS cli.graph_slam_circle
   PASS_REGULAR_EXPRESSION "vertices +50 .*edges +101 .*chi2 +0\\.00871210")
 
-# intel with the dog-leg, JSON summary.
-add_test(NAME cli.graph_slam_intel_dogleg COMMAND rove graph-slam --json --solver dogleg
+# intel with Levenberg–Marquardt (the default is the dog-leg), JSON summary.
+add_test(NAME cli.graph_slam_intel_lm COMMAND rove graph-slam --json --solver lm
   -i ${rove_graph_data}/intel.g2o)
-set_tests_properties(cli.graph_slam_intel_dogleg PROPERTIES LABELS cli
+set_tests_properties(cli.graph_slam_intel_lm PROPERTIES LABELS cli
   PASS_REGULAR_EXPRESSION "\"final_chi2\": 45\\.0046958[0-9]*.*\"termination\": \"converged\"")
 
 # --info on w100 (EQUIV merges 20 vertices away).

@@ -1,9 +1,10 @@
 // Ceres reference for rove::graph: the same cost, from the same initial
-// guess, minimized by Ceres 2.1 (LM, sparse normal Cholesky on SuiteSparse).
+// guess, minimized by Ceres 2.1 (LM or Powell's dog-leg, sparse normal
+// Cholesky on SuiteSparse).
 //
 //   ceres_graph_reference -i GRAPH [--init as-is|odometry|spanning-tree|chordal]
-//                         [--threads N] [--max-iters N] [--function-tolerance X]
-//                         [-o OUT.g2o]
+//                         [--solver lm|dogleg] [--threads N] [--max-iters N]
+//                         [--function-tolerance X] [-o OUT.g2o]
 //
 // Tolerances as rove's defaults: function 1e-8 (relative), gradient and
 // parameter 1e-12.
@@ -89,13 +90,15 @@ Eigen::Matrix<double, N, N> sqrt_information(const Eigen::Matrix<double, N, N>& 
 }
 
 double g_function_tolerance = 1e-8;
+ceres::TrustRegionStrategyType g_strategy = ceres::LEVENBERG_MARQUARDT;
 
 ceres::Solver::Options solver_options(int threads, int max_iters) {
   ceres::Solver::Options o;
   o.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   o.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   o.minimizer_type = ceres::TRUST_REGION;
-  o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  o.trust_region_strategy_type = g_strategy;
+  o.dogleg_type = ceres::TRADITIONAL_DOGLEG;  // Powell's, as rove's
   o.max_num_iterations = max_iters;
   o.function_tolerance = g_function_tolerance;
   o.gradient_tolerance = 1e-12;
@@ -195,7 +198,7 @@ Outcome solve_3d(rove::PoseGraph3D& g, int threads, int max_iters) {
 [[noreturn]] void usage() {
   std::fprintf(stderr,
                "usage: ceres_graph_reference -i GRAPH [--init as-is|odometry|spanning-tree|"
-               "chordal] [--threads N] [--max-iters N] [--function-tolerance X] [-o OUT]\n");
+               "chordal] [--solver lm|dogleg] [--threads N] [--max-iters N] [--function-tolerance X] [-o OUT]\n");
   std::exit(2);
 }
 
@@ -214,6 +217,12 @@ int main(int argc, char** argv) {
     if (a == "-i") in = next();
     else if (a == "-o") out = next();
     else if (a == "--init") init = rove::parse_initial_guess(next());
+    else if (a == "--solver") {
+      const std::string v = next();
+      if (v == "lm") g_strategy = ceres::LEVENBERG_MARQUARDT;
+      else if (v == "dogleg") g_strategy = ceres::DOGLEG;
+      else usage();
+    }
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--max-iters") max_iters = std::atoi(next().c_str());
     else if (a == "--function-tolerance") g_function_tolerance = std::atof(next().c_str());

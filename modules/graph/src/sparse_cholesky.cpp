@@ -7,25 +7,133 @@
 #include "rove/core/check.h"
 #include "rove/core/error.h"
 
+#include <cstring>
+#include <string>
+
 #ifdef ROVE_HAVE_CHOLMOD
+#include <dlfcn.h>
+
 #include <cholmod.h>
 #endif
 
 namespace rove::detail {
 
-struct SparseCholesky::Impl {
-  // Ordering is done by the caller (block AMD), so both back-ends factorize
-  // in the natural order of the matrix they get.
-  Eigen::SimplicialLLT<Matrix, Eigen::Upper, Eigen::NaturalOrdering<int>> eigen;
-#ifdef ROVE_HAVE_CHOLMOD
-  cholmod_common common;
-  cholmod_factor* factor = nullptr;
-  bool started = false;
-#endif
-};
 
 namespace {
 #ifdef ROVE_HAVE_CHOLMOD
+// CHOLMOD is loaded when a problem first needs it, not when the process
+// starts: with it come BLAS, LAPACK, libgfortran, METIS and an OpenMP
+// runtime, whose symbol relocation costs 3-5 ms of CPU at every start
+// (OpenBLAS alone ~15,000 relocations) — more than the whole solve of a
+// 100-vertex graph. Programs that never meet a graph dense enough for
+// CHOLMOD (see Engine: flops per factor entry) never pay for it.
+struct CholmodApi {
+  decltype(&::cholmod_start) start = nullptr;
+  decltype(&::cholmod_finish) finish = nullptr;
+  decltype(&::cholmod_analyze) analyze = nullptr;
+  decltype(&::cholmod_factorize) factorize = nullptr;
+  decltype(&::cholmod_solve) solve = nullptr;
+  decltype(&::cholmod_free_factor) free_factor = nullptr;
+  decltype(&::cholmod_free_dense) free_dense = nullptr;
+  // The OpenMP runtime CHOLMOD is linked to (absent when it has none).
+  int (*omp_get_max_active_levels)() = nullptr;
+  void (*omp_set_max_active_levels)(int) = nullptr;
+  int (*omp_get_dynamic)() = nullptr;
+  void (*omp_set_dynamic)(int) = nullptr;
+  int (*omp_get_max_threads)() = nullptr;
+  void (*omp_set_num_threads)(int) = nullptr;
+  bool omp = false;
+  bool ok = false;
+  std::string error;
+};
+
+template <class F>
+void bind(void* handle, F& f, const char* name) {
+  void* sym = dlsym(handle, name);
+  static_assert(sizeof(f) == sizeof(sym));
+  std::memcpy(&f, &sym, sizeof(f));  // object to function pointer (POSIX)
+}
+
+const CholmodApi& cholmod_api() {
+  static const CholmodApi api = [] {
+    CholmodApi a;
+    void* h = dlopen(ROVE_CHOLMOD_SONAME, RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+      const char* e = dlerror();
+      a.error = e ? e : "dlopen failed";
+      return a;
+    }
+    bind(h, a.start, "cholmod_start");
+    bind(h, a.finish, "cholmod_finish");
+    bind(h, a.analyze, "cholmod_analyze");
+    bind(h, a.factorize, "cholmod_factorize");
+    bind(h, a.solve, "cholmod_solve");
+    bind(h, a.free_factor, "cholmod_free_factor");
+    bind(h, a.free_dense, "cholmod_free_dense");
+    a.ok = a.start && a.finish && a.analyze && a.factorize && a.solve && a.free_factor &&
+           a.free_dense;
+    if (!a.ok) a.error = std::string(ROVE_CHOLMOD_SONAME) + " lacks a cholmod_* function";
+    // dlsym on the handle searches CHOLMOD and then its dependencies.
+    bind(h, a.omp_get_max_active_levels, "omp_get_max_active_levels");
+    bind(h, a.omp_set_max_active_levels, "omp_set_max_active_levels");
+    bind(h, a.omp_get_dynamic, "omp_get_dynamic");
+    bind(h, a.omp_set_dynamic, "omp_set_dynamic");
+    bind(h, a.omp_get_max_threads, "omp_get_max_threads");
+    bind(h, a.omp_set_num_threads, "omp_set_num_threads");
+    a.omp = a.omp_get_max_active_levels && a.omp_set_max_active_levels && a.omp_get_dynamic &&
+            a.omp_set_dynamic && a.omp_get_max_threads && a.omp_set_num_threads;
+    return a;  // the library stays loaded for the life of the process
+  }();
+  return api;
+}
+
+const CholmodApi& loaded_cholmod() {
+  const CholmodApi& api = cholmod_api();
+  if (!api.ok) throw NumericError("cannot load SuiteSparse CHOLMOD: " + api.error);
+  return api;
+}
+
+// CHOLMOD 3.x (SuiteSparse 5) opens OpenMP parallel regions with a thread
+// count fixed when it was compiled (CHOLMOD_OMP_NUM_THREADS: 4 in Debian's
+// build, whatever OMP_NUM_THREADS says) to clear and fill every supernode of
+// more than ~1000 entries. On a 2-core machine that is 4 threads forked and
+// joined thousands of times per factorization: 25-30 % more CPU time for the
+// whole run (sphere2500), and far more wall time when the cores are busy.
+// For the duration of one factorization this caps those regions at the
+// caller's thread budget, in the OpenMP runtime CHOLMOD itself is linked to
+// (so rove needs no OpenMP of its own and never brings a second runtime into
+// the process): with 1 thread every region is made inactive
+// (max-active-levels 0); with more, dynamic adjustment bounds them by the
+// budget and by the idle cores. The settings are restored after.
+class OpenMpBudget {
+ public:
+  OpenMpBudget(const CholmodApi& api, int threads) {
+    if (!api.omp) return;
+    api_ = &api;
+    levels_ = api.omp_get_max_active_levels();
+    dynamic_ = api.omp_get_dynamic();
+    nthreads_ = api.omp_get_max_threads();
+    if (threads <= 1) {
+      api.omp_set_max_active_levels(0);
+    } else {
+      api.omp_set_dynamic(1);
+      api.omp_set_num_threads(threads);
+    }
+  }
+  ~OpenMpBudget() {
+    if (!api_) return;
+    api_->omp_set_max_active_levels(levels_);
+    api_->omp_set_dynamic(dynamic_);
+    api_->omp_set_num_threads(nthreads_);
+  }
+  OpenMpBudget(const OpenMpBudget&) = delete;
+  OpenMpBudget& operator=(const OpenMpBudget&) = delete;
+
+ private:
+  const CholmodApi* api_ = nullptr;
+  int levels_ = 1, dynamic_ = 0, nthreads_ = 1;
+};
+
 cholmod_sparse view_of(const SparseCholesky::Matrix& m) {
   cholmod_sparse a{};
   a.nrow = static_cast<std::size_t>(m.rows());
@@ -45,11 +153,27 @@ cholmod_sparse view_of(const SparseCholesky::Matrix& m) {
 #endif
 }  // namespace
 
-SparseCholesky::SparseCholesky(LinearSolverType type) : impl_(std::make_unique<Impl>()) {
+struct SparseCholesky::Impl {
+  // Ordering is done by the caller (block AMD), so both back-ends factorize
+  // in the natural order of the matrix they get.
+  Eigen::SimplicialLLT<Matrix, Eigen::Upper, Eigen::NaturalOrdering<int>> eigen;
 #ifdef ROVE_HAVE_CHOLMOD
-  type_ = type == LinearSolverType::Auto ? LinearSolverType::Cholmod : type;
+  const CholmodApi* api = nullptr;
+  cholmod_common common;
+  cholmod_factor* factor = nullptr;
+  bool started = false;
+#endif
+};
+
+SparseCholesky::SparseCholesky(LinearSolverType type, int num_threads)
+    : num_threads_(num_threads), impl_(std::make_unique<Impl>()) {
+#ifdef ROVE_HAVE_CHOLMOD
+  type_ = type == LinearSolverType::Auto
+              ? (cholmod_api().ok ? LinearSolverType::Cholmod : LinearSolverType::Eigen)
+              : type;
   if (type_ == LinearSolverType::Cholmod) {
-    cholmod_start(&impl_->common);
+    impl_->api = &loaded_cholmod();
+    impl_->api->start(&impl_->common);
     impl_->started = true;
     impl_->common.nmethods = 1;
     impl_->common.method[0].ordering = CHOLMOD_NATURAL;
@@ -68,17 +192,17 @@ SparseCholesky::SparseCholesky(LinearSolverType type) : impl_(std::make_unique<I
 
 SparseCholesky::~SparseCholesky() {
 #ifdef ROVE_HAVE_CHOLMOD
-  if (impl_->factor) cholmod_free_factor(&impl_->factor, &impl_->common);
-  if (impl_->started) cholmod_finish(&impl_->common);
+  if (impl_->factor) impl_->api->free_factor(&impl_->factor, &impl_->common);
+  if (impl_->started) impl_->api->finish(&impl_->common);
 #endif
 }
 
 void SparseCholesky::analyze(const Matrix& upper) {
 #ifdef ROVE_HAVE_CHOLMOD
   if (type_ == LinearSolverType::Cholmod) {
-    if (impl_->factor) cholmod_free_factor(&impl_->factor, &impl_->common);
+    if (impl_->factor) impl_->api->free_factor(&impl_->factor, &impl_->common);
     cholmod_sparse a = view_of(upper);
-    impl_->factor = cholmod_analyze(&a, &impl_->common);
+    impl_->factor = impl_->api->analyze(&a, &impl_->common);
     if (!impl_->factor) {
       throw NumericError("CHOLMOD symbolic analysis failed (status " +
                          std::to_string(impl_->common.status) + ")");
@@ -93,7 +217,8 @@ std::optional<long> SparseCholesky::factorize(const Matrix& upper) {
 #ifdef ROVE_HAVE_CHOLMOD
   if (type_ == LinearSolverType::Cholmod) {
     cholmod_sparse a = view_of(upper);
-    cholmod_factorize(&a, impl_->factor, &impl_->common);
+    const OpenMpBudget budget(*impl_->api, num_threads_);
+    impl_->api->factorize(&a, impl_->factor, &impl_->common);
     if (impl_->common.status == CHOLMOD_NOT_POSDEF) return static_cast<long>(impl_->factor->minor);
     if (impl_->common.status < CHOLMOD_OK) {
       throw NumericError("CHOLMOD numeric factorization failed (status " +
@@ -118,10 +243,10 @@ void SparseCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     bd.x = const_cast<double*>(b.data());
     bd.xtype = CHOLMOD_REAL;
     bd.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense* xd = cholmod_solve(CHOLMOD_A, impl_->factor, &bd, &impl_->common);
+    cholmod_dense* xd = impl_->api->solve(CHOLMOD_A, impl_->factor, &bd, &impl_->common);
     if (!xd) throw NumericError("CHOLMOD solve failed");
     x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(xd->x), b.size());
-    cholmod_free_dense(&xd, &impl_->common);
+    impl_->api->free_dense(&xd, &impl_->common);
     return;
   }
 #endif
@@ -144,13 +269,14 @@ std::vector<int> fill_reducing_order(const Eigen::SparseMatrix<int, Eigen::ColMa
   const int n = static_cast<int>(pattern.rows());
   std::vector<int> perm(static_cast<std::size_t>(n));
 #ifdef ROVE_HAVE_CHOLMOD
-  if (use_cholmod && n > 0) {
+  if (use_cholmod && n > 0 && cholmod_api().ok) {
+    const CholmodApi& api = cholmod_api();
     // Upper triangle of the pattern as a CHOLMOD matrix of ones.
     Eigen::SparseMatrix<double, Eigen::ColMajor, int> upper =
         pattern.cast<double>().triangularView<Eigen::Upper>();
     upper.makeCompressed();
     cholmod_common c;
-    cholmod_start(&c);
+    api.start(&c);
     c.print = 0;
     c.error_handler = nullptr;
     c.nmethods = 2;
@@ -158,14 +284,14 @@ std::vector<int> fill_reducing_order(const Eigen::SparseMatrix<int, Eigen::ColMa
     c.method[1].ordering = CHOLMOD_METIS;
     c.postorder = 1;
     cholmod_sparse a = view_of(upper);
-    cholmod_factor* f = cholmod_analyze(&a, &c);
+    cholmod_factor* f = api.analyze(&a, &c);
     const bool ok = f != nullptr;
     if (ok) {
       const int* p = static_cast<const int*>(f->Perm);
       std::copy(p, p + n, perm.begin());
-      cholmod_free_factor(&f, &c);
+      api.free_factor(&f, &c);
     }
-    cholmod_finish(&c);
+    api.finish(&c);
     if (ok) return perm;
   }
 #else
@@ -180,10 +306,60 @@ std::vector<int> fill_reducing_order(const Eigen::SparseMatrix<int, Eigen::ColMa
 
 bool cholmod_built() noexcept {
 #ifdef ROVE_HAVE_CHOLMOD
-  return true;
+  return cholmod_api().ok;
 #else
   return false;
 #endif
+}
+
+CholeskyCost block_cholesky_cost(const Eigen::SparseMatrix<int, Eigen::ColMajor, int>& pattern,
+                                 const std::vector<int>& perm, int block_size) {
+  // Elimination tree and row subtrees (Liu 1986; Davis, "Direct Methods for
+  // Sparse Linear Systems", 2006, §4.1 and §4.4): for every row k of L, walk
+  // up the tree from each entry A(i, k), i < k, until a node already marked
+  // for k; each node passed is a nonzero L(k, j). O(nnz(L)) over blocks.
+  const int n = static_cast<int>(pattern.rows());
+  std::vector<int> pinv(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) pinv[static_cast<std::size_t>(perm[static_cast<std::size_t>(k)])] = k;
+  std::vector<std::vector<int>> upper(static_cast<std::size_t>(n));
+  for (int c = 0; c < pattern.outerSize(); ++c) {
+    for (Eigen::SparseMatrix<int, Eigen::ColMajor, int>::InnerIterator it(pattern, c); it; ++it) {
+      const int i = pinv[static_cast<std::size_t>(it.index())], k = pinv[static_cast<std::size_t>(c)];
+      if (i < k) upper[static_cast<std::size_t>(k)].push_back(i);
+    }
+  }
+  std::vector<int> parent(static_cast<std::size_t>(n), -1), ancestor(static_cast<std::size_t>(n), -1),
+      mark(static_cast<std::size_t>(n), -1);
+  std::vector<long> count(static_cast<std::size_t>(n), 1);  // the diagonal block
+  for (int k = 0; k < n; ++k) {
+    for (int i : upper[static_cast<std::size_t>(k)]) {  // elimination tree, path compression
+      while (i != -1 && i < k) {
+        const int next = ancestor[static_cast<std::size_t>(i)];
+        ancestor[static_cast<std::size_t>(i)] = k;
+        if (next == -1) parent[static_cast<std::size_t>(i)] = k;
+        i = next;
+      }
+    }
+    mark[static_cast<std::size_t>(k)] = k;
+    for (int i : upper[static_cast<std::size_t>(k)]) {  // row subtree of k
+      for (int j = i; mark[static_cast<std::size_t>(j)] != k; j = parent[static_cast<std::size_t>(j)]) {
+        mark[static_cast<std::size_t>(j)] = k;
+        ++count[static_cast<std::size_t>(j)];
+      }
+    }
+  }
+  CholeskyCost cost;
+  const double b = block_size;
+  for (long c : count) {
+    // Scalar column m of the block column: b·c − m entries, and about as
+    // many squared multiply-adds to apply it (the count CHOLMOD uses).
+    for (int m = 0; m < block_size; ++m) {
+      const double len = b * static_cast<double>(c) - m;
+      cost.factor_nonzeros += len;
+      cost.flops += len * len;
+    }
+  }
+  return cost;
 }
 
 }  // namespace rove::detail

@@ -20,12 +20,35 @@ namespace rove::detail {
 std::vector<int> fill_reducing_order(const Eigen::SparseMatrix<int, Eigen::ColMajor, int>& pattern,
                                      bool use_cholmod);
 
+/// Size of the Cholesky factor of a block matrix with the symmetric block
+/// `pattern` (n×n, both triangles) eliminated in the order `perm`
+/// (perm[new] = old), each block `block_size`×`block_size` and dense.
+struct CholeskyCost {
+  double factor_nonzeros = 0.0;  ///< scalar entries of L
+  double flops = 0.0;            ///< Σ (column length)², CHOLMOD's measure
+};
+CholeskyCost block_cholesky_cost(const Eigen::SparseMatrix<int, Eigen::ColMajor, int>& pattern,
+                                 const std::vector<int>& perm, int block_size);
+
+/// True when rove was compiled with CHOLMOD (does not load it).
+constexpr bool cholmod_compiled() noexcept {
+#ifdef ROVE_HAVE_CHOLMOD
+  return true;
+#else
+  return false;
+#endif
+}
+/// True when CHOLMOD can be used: compiled with it, and its library loads
+/// (this loads it; it is loaded on first use, not at process start).
+bool cholmod_built() noexcept;
+
 class SparseCholesky {
  public:
   using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
-  /// Chooses the back-end (Auto → CHOLMOD when built with it).
-  explicit SparseCholesky(LinearSolverType type);
+  /// Chooses the back-end (Auto → CHOLMOD when it loads, else Eigen).
+  /// `num_threads` bounds the threads CHOLMOD's own OpenMP regions may use.
+  SparseCholesky(LinearSolverType type, int num_threads);
   ~SparseCholesky();
   SparseCholesky(const SparseCholesky&) = delete;
   SparseCholesky& operator=(const SparseCholesky&) = delete;
@@ -45,6 +68,7 @@ class SparseCholesky {
  private:
   struct Impl;
   LinearSolverType type_;
+  int num_threads_ = 1;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -34,20 +34,52 @@ Reference reference_for(const std::string& file) {
   return {};
 }
 
+// Both trust-region methods (dog-leg is the default) reach Ceres' χ².
 void expect_matches_ceres(const std::string& file) {
   const Reference ref = reference_for(file);
-  auto g = read_graph_2d(test::posegraph_dataset(file));
-  initialize(g, parse_initial_guess(ref.init));
-  const auto r = optimize(g);
-  ASSERT_TRUE(r.ok()) << r.message;
-  EXPECT_NEAR(r.initial_chi2, ref.chi2_initial, 1e-9 * ref.chi2_initial) << file;
-  EXPECT_NEAR(r.final_chi2, ref.chi2_final, 1e-6 * ref.chi2_final) << file;
+  const auto loaded = read_graph_2d(test::posegraph_dataset(file));
+  for (auto solver : {GraphSolver::DogLeg, GraphSolver::LevenbergMarquardt}) {
+    auto g = loaded;
+    initialize(g, parse_initial_guess(ref.init));
+    GraphOptimizerOptions o;
+    o.solver = solver;
+    const auto r = optimize(g, o);
+    ASSERT_TRUE(r.ok()) << to_string(solver) << ": " << r.message;
+    EXPECT_NEAR(r.initial_chi2, ref.chi2_initial, 1e-9 * ref.chi2_initial) << file;
+    EXPECT_NEAR(r.final_chi2, ref.chi2_final, 1e-6 * ref.chi2_final) << file << " "
+                                                                     << to_string(solver);
+    EXPECT_EQ(r.termination, GraphTermination::Converged) << file << " " << to_string(solver);
+    EXPECT_GE(r.factorizations, 1);
+    if (solver == GraphSolver::LevenbergMarquardt) {
+      EXPECT_EQ(r.factorizations, r.iterations);  // LM: one per trial step
+    } else {
+      EXPECT_LE(r.factorizations, r.accepted_steps + 1);  // dog-leg: one per accepted step
+    }
+  }
 }
 
 TEST(CeresReference, Circle50) { expect_matches_ceres("graph_2d_circle_50nodes.graph"); }
 TEST(CeresReference, W100) { expect_matches_ceres("w100.graph"); }
 TEST(CeresReference, Intel) { expect_matches_ceres("intel.g2o"); }
+TEST(CeresReference, IntelCarloneChordal) { expect_matches_ceres("intel_carlone.g2o"); }
 TEST(CeresReference, M3500) { expect_matches_ceres("M3500.g2o"); }
+
+// Dog-leg reuses its factorization when a step is rejected: on intel_carlone
+// from the chordal guess LM needs ~60 factorizations, the dog-leg ~5.
+TEST(CeresReference, DogLegFactorizesLessThanLm) {
+  const Reference ref = reference_for("intel_carlone.g2o");
+  auto lm_graph = read_graph_2d(test::posegraph_dataset("intel_carlone.g2o"));
+  initialize(lm_graph, parse_initial_guess(ref.init));
+  auto dl_graph = lm_graph;
+  GraphOptimizerOptions o;
+  o.solver = GraphSolver::LevenbergMarquardt;
+  const auto lm = optimize(lm_graph, o);
+  o.solver = GraphSolver::DogLeg;
+  const auto dl = optimize(dl_graph, o);
+  ASSERT_TRUE(lm.ok() && dl.ok());
+  EXPECT_LT(dl.factorizations * 4, lm.factorizations);
+  EXPECT_NEAR(dl.final_chi2, lm.final_chi2, 1e-9 * lm.final_chi2);
+}
 
 }  // namespace
 }  // namespace rove

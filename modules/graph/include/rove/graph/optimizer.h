@@ -86,10 +86,16 @@ struct GraphTiming {
 
 /// Options of optimize(); defaults in the comments.
 struct GraphOptimizerOptions {
-  GraphSolver solver = GraphSolver::LevenbergMarquardt;  ///< method
+  /// Method. Powell's dog-leg by default: it reaches the same χ² as LM
+  /// (within 1e-9 relative on the seven benchmark graphs) in as many or
+  /// fewer iterations, and a rejected step costs it no factorization (the
+  /// Gauss–Newton step is kept, only the trust radius shrinks), where LM
+  /// refactorizes with a larger λ (intel_carlone: 5 factorizations vs 61).
+  GraphSolver solver = GraphSolver::DogLeg;
   LinearSolverType linear_solver = LinearSolverType::Auto;  ///< Cholesky back-end
   int max_iterations = 100;          ///< linear solves at most (≥ 0)
-  double function_tolerance = 1e-8;  ///< stop when an accepted step lowers χ² by ≤ this × χ²
+  double function_tolerance = 1e-8;  ///< stop when a step changes χ² by ≤ this × χ² (an accepted
+                                     ///< step is kept; as Ceres' function_tolerance)
   double gradient_tolerance = 1e-12; ///< stop when max |Jᵀ W e| ≤ this
   double step_tolerance = 1e-12;     ///< stop when ‖δ‖ ≤ this × (‖t‖ + this), t all translations
   double initial_lambda = 1e-5;      ///< LM: initial λ, relative to diag(JᵀWJ)
@@ -107,7 +113,8 @@ struct GraphOptimizerResult {
   std::string message;           ///< one line: the reason
   double initial_chi2 = 0.0;     ///< χ² before optimizing
   double final_chi2 = 0.0;       ///< χ² of the returned poses
-  int iterations = 0;            ///< linear solves
+  int iterations = 0;            ///< trial steps (LM: one factorization each)
+  int factorizations = 0;        ///< numeric Cholesky factorizations
   int accepted_steps = 0;        ///< steps taken
   std::vector<GraphIteration> history;  ///< one entry per iteration
   GraphTiming timing;
