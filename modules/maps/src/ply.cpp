@@ -127,7 +127,10 @@ double ascii_value(std::string_view t, ScalarKind k, std::string_view src, std::
     const auto r = std::from_chars(b, t.data() + t.size(), v);
     if (r.ec != std::errc() || r.ptr != t.data() + t.size())
       fail_line(src, line, name, fmt::format("'{}' is not a number", t));
-    if (k == ScalarKind::kF32 && std::isfinite(v) && std::fabs(v) > 3.4028234663852886e38)
+    // Out of range only if it rounds to infinity: |v| >= FLT_MAX + half an ulp
+    // (2^128 - 2^103). "3.4028235e+38", the shortest text of FLT_MAX, is above
+    // FLT_MAX itself (fuzz finding, test Ply.AsciiFltMaxReadsBack).
+    if (k == ScalarKind::kF32 && std::isfinite(v) && std::fabs(v) >= 3.4028235677973366e38)
       fail_line(src, line, name, fmt::format("'{}' is out of the float range", t));
     if (k == ScalarKind::kF32) {
       // Parse as float directly so the value is correctly rounded once.

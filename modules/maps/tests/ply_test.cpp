@@ -53,6 +53,22 @@ TEST(Ply, RoundTripsEveryEncodingAndChannelSetExactly) {
       }
 }
 
+// Regression (rove_ply_fuzz, crash-30a0600b): a binary PLY holding ±FLT_MAX
+// wrote "-3.4028235e+38" in ascii, which the reader rejected as out of the
+// float range (the shortest decimal of FLT_MAX is slightly above it).
+TEST(Ply, AsciiFltMaxReadsBack) {
+  PointCloud c;
+  c.push_back({-3.4028235e38f, 3.4028235e38f, 1.0f});
+  PlyWriteOptions o;
+  o.format = PlyFormat::kAscii;
+  EXPECT_EQ(read_ply_from_memory(write_ply_to_memory(c, o), "m"), c);
+  // Still rejected: values that round to infinity as float.
+  EXPECT_THROW(read_ply_from_memory(bytes_of("ply\nformat ascii 1.0\nelement vertex 1\n"
+                                             "property float x\nproperty float y\nproperty float z\n"
+                                             "end_header\n3.4028236e38 0 0\n"), "m"),
+               ParseError);
+}
+
 TEST(Ply, SkipsOtherElementsListsAndProperties) {
   const std::string text =
       "ply\nformat ascii 1.0\ncomment hi\nelement camera 1\nproperty float f\nelement vertex 2\n"
