@@ -129,6 +129,22 @@ TEST(GrayImage, PngColorBecomesChannelAverage) {
   EXPECT_EQ(img.pixels, (std::vector<std::uint8_t>{60, 85}));
 }
 
+// The fuzz seeds, written by hand (fuzz/corpus/grid_io/): every PNG
+// variant the decoder converts, with known pixels.
+TEST(GrayImage, DecodesEveryPngKind) {
+  const std::string dir = ROVE_SOURCE_DIR "/fuzz/corpus/grid_io/";
+  const auto px = [&](const std::string& name) { return read_gray_image(dir + name).pixels; };
+  using V = std::vector<std::uint8_t>;
+  EXPECT_EQ(px("gray8.png"), (V{0, 128, 255, 10, 30, 60}));  // row 1 uses the Sub filter
+  EXPECT_EQ(px("interlaced.png"), (V{10, 20, 30, 40}));      // Adam7
+  EXPECT_EQ(px("palette.png"), (V{0, 60}));                  // (30, 60, 90) averaged
+  EXPECT_EQ(px("gray16.png"), (V{0x12, 0xAB}));              // high byte kept
+  EXPECT_EQ(px("gray1.png"), (V{255, 0, 255}));              // 1-bit scaled to 8
+  EXPECT_EQ(px("rgba.png"), (V{60}));                        // alpha ignored
+  EXPECT_EQ(px("p5_16.pgm"), (V{255, 128}));
+  EXPECT_EQ(px("p2.pgm"), (V{0, 255, 119, 136, 17, 34}));
+}
+
 TEST(GrayImage, EveryTruncatedPngIsAParseError) {
   const auto png = encode_png(random_image(19, 11, 3));
   for (std::size_t n = 0; n < png.size(); ++n) {
