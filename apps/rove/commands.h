@@ -16,7 +16,8 @@ void add_rawlog_command(CLI::App& app);
 /// `rove icp-slam [CONFIG] [RAWLOG] [-o DIR] [--json]`: build a map with ICP-SLAM.
 void add_icp_slam_command(CLI::App& app);
 /// `rove map build CONFIG INPUT -o DIR [--section S] [--json]`: build the
-/// maps an MRPT config declares from a rawlog or simplemap.
+/// maps an MRPT config declares from a rawlog or simplemap; `rove map
+/// convert IN OUT`: occupancy grids between ROS map.yaml, .gridmap, .rovegrid.
 void add_map_command(CLI::App& app);
 /// `rove graph-slam -i IN [-o OUT] [--solver ...] [--init ...] [--info] [--plot PNG] [--json]`:
 /// optimize or inspect a 2D/3D pose graph.

@@ -7,7 +7,11 @@
 #include "commands.h"
 #include "rove/core/error.h"
 #include "rove/core/ini.h"
+#include "rove/maps/grid_binary.h"
+#include "rove/maps/grid_image.h"
 #include "rove/maps/metric_map_builder.h"
+#include "rove/maps/metric_map_occupancy_grid.h"
+#include "rove/maps/mrpt_gridmap.h"
 #include "rove/maps/multi_metric_map.h"
 
 namespace rove::cli {
@@ -76,7 +80,18 @@ int run_map_build(const MapBuildArgs& a) {
   }
   const MapBuildResult r = build_map(a.input, mm);
   std::filesystem::create_directories(a.out_dir);
-  const auto files = mm.save((std::filesystem::path(a.out_dir) / "map").string());
+  auto files = mm.save((std::filesystem::path(a.out_dir) / "map").string());
+  // Occupancy grids also as a ROS map_server map (map_saver's trinary PNG + yaml).
+  for (std::size_t i = 0; i < mm.size(); ++i) {
+    const auto& e = mm.entries()[i];
+    if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
+      const RosMapFiles ros = save_ros_map(
+          (std::filesystem::path(a.out_dir) / fmt::format("map_{:02}_{}", i, e.map->kind())).string(),
+          g->grid());
+      files.push_back(ros.image);
+      files.push_back(ros.yaml);
+    }
+  }
 
   if (a.json) {
     std::string maps;
@@ -134,6 +149,60 @@ int run_map_build(const MapBuildArgs& a) {
   return 0;
 }
 
+struct MapConvertArgs {
+  std::string input;
+  std::string output;
+  bool probability = false;
+  bool pgm = false;
+};
+
+bool ends_with_ci(std::string s, std::string_view suffix) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s.ends_with(suffix);
+}
+
+int run_map_convert(const MapConvertArgs& a) {
+  OccupancyGrid grid;
+  std::string from;
+  if (ends_with_ci(a.input, ".yaml") || ends_with_ci(a.input, ".yml")) {
+    RosMap m = load_ros_map(a.input);
+    for (const auto& k : m.yaml.unknown_keys) {
+      fmt::print("  without effect: {} key '{}'\n", a.input, k);
+    }
+    grid = std::move(m.grid);
+    from = "ROS map";
+  } else if (ends_with_ci(a.input, ".gridmap") || ends_with_ci(a.input, ".gridmap.gz")) {
+    grid = load_mrpt_gridmap(a.input).grid;
+    from = "MRPT gridmap";
+  } else if (ends_with_ci(a.input, ".rovegrid") || ends_with_ci(a.input, ".rovegrid.gz")) {
+    grid = load_grid(a.input);
+    from = "rove grid";
+  } else {
+    throw CLI::ValidationError("IN", fmt::format("{}: unknown input kind (expected .yaml, "
+                                                 ".gridmap[.gz] or .rovegrid[.gz])", a.input));
+  }
+  std::vector<std::string> written;
+  if (ends_with_ci(a.output, ".yaml")) {
+    GridImageOptions o;
+    o.style = a.probability ? GridImageStyle::kProbability : GridImageStyle::kTrinary;
+    o.format = a.pgm ? ImageFormat::kPgm : ImageFormat::kPng;
+    const auto f = save_ros_map(a.output.substr(0, a.output.size() - 5), grid, o);
+    written = {f.image, f.yaml};
+  } else if (ends_with_ci(a.output, ".rovegrid") || ends_with_ci(a.output, ".rovegrid.gz")) {
+    save_grid(a.output, grid,
+              ends_with_ci(a.output, ".gz") ? FileCompression::kGzip : FileCompression::kNone);
+    written = {a.output};
+  } else {
+    throw CLI::ValidationError("OUT", fmt::format("{}: unknown output kind (expected .yaml or "
+                                                  ".rovegrid[.gz])", a.output));
+  }
+  fmt::print("{} {}: {} x {} cells of {} m, x [{}, {}] y [{}, {}] m\n", from, a.input,
+             grid.size_x(), grid.size_y(), grid.resolution(), grid.x_min(), grid.x_max(),
+             grid.y_min(), grid.y_max());
+  for (const auto& f : written) fmt::print("  wrote {}\n", f);
+  return 0;
+}
+
 }  // namespace
 
 void add_map_command(CLI::App& app) {
@@ -156,6 +225,25 @@ void add_map_command(CLI::App& app) {
   build->add_flag("--json", args->json, "print the summary as JSON");
   build->callback([args] {
     const int rc = run_map_build(*args);
+    if (rc != 0) throw CLI::RuntimeError(rc);
+  });
+
+  auto cargs = std::make_shared<MapConvertArgs>();
+  auto* convert = map->add_subcommand(
+      "convert",
+      "Convert an occupancy grid between a ROS map (map.yaml + PNG/PGM), an MRPT .gridmap "
+      "(read only) and rove's binary .rovegrid");
+  convert->add_option("IN", cargs->input, "map.yaml, .gridmap[.gz] or .rovegrid[.gz]")
+      ->required()
+      ->check(CLI::ExistingFile);
+  convert->add_option("OUT", cargs->output,
+                      "NAME.yaml (writes NAME.png + NAME.yaml) or .rovegrid[.gz]")
+      ->required();
+  convert->add_flag("--probability", cargs->probability,
+                    "image of 255·p(free) instead of map_saver's 0/205/254");
+  convert->add_flag("--pgm", cargs->pgm, "write the image as PGM (P5) instead of PNG");
+  convert->callback([cargs] {
+    const int rc = run_map_convert(*cargs);
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }

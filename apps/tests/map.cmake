@@ -21,7 +21,12 @@ add_test(NAME cli.map_build_grid COMMAND rove map build --section MetricMap
   ${rove_map_configs}/pf-localization/localization_demo.ini
   ${rove_map_datasets}/localization_demo.simplemap.gz -o ${rove_map_dir}/grid)
 set_tests_properties(cli.map_build_grid PROPERTIES LABELS cli
-  PASS_REGULAR_EXPRESSION "map 0 occupancyGrid: [0-9]+ cells of 646250 cells")
+  PASS_REGULAR_EXPRESSION "map 0 occupancyGrid: [0-9]+ cells of 646250 cells.*wrote [^\n]*map_00_occupancyGrid\\.png\n  wrote [^\n]*map_00_occupancyGrid\\.yaml")
+# ...and the ROS map it wrote loads back (map.yaml + PNG -> .rovegrid).
+add_test(NAME cli.map_build_grid_ros_map_loads COMMAND rove map convert
+  ${rove_map_dir}/grid/map_00_occupancyGrid.yaml ${rove_map_dir}/grid/back.rovegrid)
+set_tests_properties(cli.map_build_grid_ros_map_loads PROPERTIES LABELS cli DEPENDS cli.map_build_grid
+  PASS_REGULAR_EXPRESSION "ROS map [^\n]*: 1250 x 517 cells of 0\\.06 m")
 
 # Beacons from a rawlog (layout #1, poses from odometry), JSON summary.
 add_test(NAME cli.map_build_beacons_json COMMAND rove map build --json
@@ -48,3 +53,30 @@ add_test(NAME cli.map_build_gas_grid COMMAND rove map build
   ${rove_map_datasets}/localization_demo.simplemap.gz -o ${rove_map_dir}/gas)
 set_tests_properties(cli.map_build_gas_grid PROPERTIES LABELS cli
   PASS_REGULAR_EXPRESSION "gasGrid_count: 1 map requested, but map kind 'gasGrid' is not implemented")
+
+# `rove map convert`: MRPT .gridmap -> ROS map (PNG + yaml) -> .rovegrid ->
+# ROS map again; both trinary PNGs must be byte-identical.
+file(MAKE_DIRECTORY ${rove_map_dir}/convert)
+add_test(NAME cli.map_convert_gridmap COMMAND rove map convert
+  ${rove_map_datasets}/2006-MalagaCampus.gridmap.gz ${rove_map_dir}/convert/malaga.yaml)
+set_tests_properties(cli.map_convert_gridmap PROPERTIES LABELS cli FIXTURES_SETUP map_convert_1
+  PASS_REGULAR_EXPRESSION "MRPT gridmap [^\n]*: [0-9]+ x [0-9]+ cells.*wrote [^\n]*malaga\\.png\n  wrote [^\n]*malaga\\.yaml")
+add_test(NAME cli.map_convert_yaml_to_rovegrid COMMAND rove map convert
+  ${rove_map_dir}/convert/malaga.yaml ${rove_map_dir}/convert/malaga.rovegrid.gz)
+set_tests_properties(cli.map_convert_yaml_to_rovegrid PROPERTIES LABELS cli
+  FIXTURES_REQUIRED map_convert_1 FIXTURES_SETUP map_convert_2
+  PASS_REGULAR_EXPRESSION "ROS map .*wrote [^\n]*malaga\\.rovegrid\\.gz")
+add_test(NAME cli.map_convert_rovegrid_to_yaml COMMAND rove map convert
+  ${rove_map_dir}/convert/malaga.rovegrid.gz ${rove_map_dir}/convert/again.yaml)
+set_tests_properties(cli.map_convert_rovegrid_to_yaml PROPERTIES LABELS cli
+  FIXTURES_REQUIRED map_convert_2 FIXTURES_SETUP map_convert_3
+  PASS_REGULAR_EXPRESSION "rove grid .*wrote [^\n]*again\\.png")
+add_test(NAME cli.map_convert_same_png COMMAND ${CMAKE_COMMAND} -E compare_files
+  ${rove_map_dir}/convert/malaga.png ${rove_map_dir}/convert/again.png)
+set_tests_properties(cli.map_convert_same_png PROPERTIES LABELS cli FIXTURES_REQUIRED map_convert_3)
+# A yaml with a yaw is refused, naming the file and the key.
+file(WRITE ${rove_map_dir}/convert/yaw.yaml "image: malaga.png\nresolution: 0.2\norigin: [0, 0, 0.5]\n")
+add_test(NAME cli.map_convert_yaw_rejected COMMAND rove map convert
+  ${rove_map_dir}/convert/yaw.yaml ${rove_map_dir}/convert/yaw.rovegrid)
+set_tests_properties(cli.map_convert_yaw_rejected PROPERTIES LABELS cli FIXTURES_REQUIRED map_convert_1
+  PASS_REGULAR_EXPRESSION "yaw\\.yaml.*origin.*yaw 0\\.5")
