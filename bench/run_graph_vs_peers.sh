@@ -84,7 +84,6 @@ echo "$sets" | while read -r name file dim init batch; do
     timed "$batch" "$work/ceres.out" "$ceres" -i "$in" --init "$init" --solver "$solver" -o "$work/ceres_out.g2o" >>"$work/t_ceres"
     timed 1 "$work/mrpt.out" graph-slam --levmarq --$dim -i "$mrpt_in" -o "$work/mrpt_out.graph" >>"$work/t_mrpt"
   done
-echo "load at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
   rchi=$(grep -o '"final_chi2": [^,]*' "$work/rove.out" | cut -d' ' -f2 || true)
   cchi=$(grep -o 'chi2_final [^ ]*' "$work/ceres.out" | cut -d' ' -f2 || true)
   rs=$(col 1 "$work/t_rove"); rm=$(col 2 "$work/t_rove"); rc=$(col 3 "$work/t_rove")
