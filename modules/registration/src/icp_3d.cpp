@@ -65,33 +65,42 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   return m;
 }
 
+/// Adds w·JᵀR W RᵀJ to the upper triangle of a.H and w·JᵀR·v to a.b, for
+/// J = [R, −R[s]×] (see linearize): H += w[W, −WS; SW, −SWS], S = [s]×.
+inline void add_quadratic(Linear6& a, const Eigen::Matrix3d& W, const Eigen::Vector3d& s, double w,
+                          const Eigen::Vector3d& v) {
+  const Eigen::Matrix3d S = skew(s);
+  const Eigen::Matrix3d WS = W * S;
+  a.H.topLeftCorner<3, 3>().noalias() += w * W;
+  a.H.topRightCorner<3, 3>().noalias() -= w * WS;
+  a.H.bottomRightCorner<3, 3>().noalias() -= w * (S * WS);
+  a.b.head<3>().noalias() += w * v;
+  a.b.tail<3>().noalias() += w * s.cross(v);
+}
+
 /// Linearizes (or, with `cost_only`, evaluates) the cost of the pairs at T.
 template <typename Kernel>
 Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
                   const std::vector<Pair3>& pairs, const Eigen::Isometry3d& T,
-                  Icp3dMethod method, const Kernel& kernel, bool cost_only, int threads) {
+                  Icp3dMethod method, const Kernel& kernel, bool cost_only,
+                  detail::ThreadTeam& team) {
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d t = T.translation();
-  return detail::parallel_reduce(pairs.size(), threads, Linear6{},
+  Linear6 sum = detail::parallel_reduce(pairs.size(), team, Linear6{},
                                  [&](std::size_t b, std::size_t e, Linear6& a) {
+    // With J = ∂q/∂(ρ, ω) = [R, −R[s]×] and Rᵀ applied to the target side,
+    // every product is taken in the source frame: for a symmetric W,
+    // JᵀRWRᵀJ = [W, −W[s]×; [s]×W, −[s]×W[s]×], and JᵀR·v = (v, s × v).
     for (std::size_t k = b; k < e; ++k) {
       const Pair3& pr = pairs[k];
       const Eigen::Vector3d s = source.points()[pr.source].cast<double>();
       const Eigen::Vector3d q = R * s + t - target.points()[pr.target].cast<double>();
       a.sq_dist += q.squaredNorm();
-      Eigen::Matrix<double, 3, 6> J;
-      if (!cost_only) {
-        J.leftCols<3>() = R;
-        J.rightCols<3>() = -R * skew(s);
-      }
       switch (method) {
         case Icp3dMethod::PointToPoint: {
           const auto kv = kernel.evaluate(q.squaredNorm());
           a.cost += kv.rho;
-          if (!cost_only) {
-            a.H += kv.d1 * J.transpose() * J;
-            a.b += kv.d1 * J.transpose() * q;
-          }
+          if (!cost_only) add_quadratic(a, Eigen::Matrix3d::Identity(), s, kv.d1, R.transpose() * q);
           break;
         }
         case Icp3dMethod::PointToPlane: {
@@ -100,41 +109,69 @@ Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
           const auto kv = kernel.evaluate(r * r);
           a.cost += kv.rho;
           if (!cost_only) {
-            const Eigen::Matrix<double, 1, 6> Jn = n.transpose() * J;
-            a.H += kv.d1 * Jn.transpose() * Jn;
-            a.b += kv.d1 * Jn.transpose() * r;
+            const Eigen::Vector3d m = R.transpose() * n;
+            Vec6 j;
+            j << m, s.cross(m);
+            a.H.noalias() += (kv.d1 * j) * j.transpose();
+            a.b += (kv.d1 * r) * j;
           }
           break;
         }
         case Icp3dMethod::Gicp: {
-          const Eigen::Matrix3d C =
-              target.covariances()[pr.target] + R * source.covariances()[pr.source] * R.transpose();
-          const Eigen::Matrix3d M = C.inverse();
-          const Eigen::Vector3d Mq = M * q;
-          const auto kv = kernel.evaluate(std::max(0.0, q.dot(Mq)));
+          // (C_t + R C_s Rᵀ)⁻¹ = R (Rᵀ C_t R + C_s)⁻¹ Rᵀ: invert in the
+          // source frame.
+          Eigen::Matrix3d C = source.covariances()[pr.source];
+          C.noalias() += R.transpose() * target.covariances()[pr.target] * R;
+          const Eigen::Matrix3d W = C.inverse();
+          const Eigen::Vector3d qs = R.transpose() * q;
+          const Eigen::Vector3d Wq = W * qs;
+          const auto kv = kernel.evaluate(std::max(0.0, qs.dot(Wq)));
           a.cost += kv.rho;
-          if (!cost_only) {
-            const Eigen::Matrix<double, 6, 3> JtM = J.transpose() * M;
-            a.H += kv.d1 * JtM * J;
-            a.b += kv.d1 * J.transpose() * Mq;
-          }
+          if (!cost_only) add_quadratic(a, W, s, kv.d1, Wq);
           break;
         }
       }
     }
   });
+  // add_quadratic fills the upper triangle only.
+  if (method != Icp3dMethod::PointToPlane) sum.H.triangularView<Eigen::StrictlyLower>() = sum.H.transpose();
+  return sum;
 }
 
+/// The unit normal of a plane-to-plane covariance C = I − (1 − ε)·n·nᵀ
+/// (prepared_cloud.h): n·nᵀ = (I − C)/(1 − ε), read off its largest column
+/// without an eigen-decomposition. Zero for C = I (a point without extent).
+Eigen::Vector3d normal_of_gicp_covariance(const Eigen::Matrix3d& C, double epsilon) {
+  if (!(epsilon < 1)) return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvectors().col(0);
+  const Eigen::Matrix3d nn = (Eigen::Matrix3d::Identity() - C) / (1 - epsilon);
+  Eigen::Index j = 0;
+  const double top = nn.diagonal().maxCoeff(&j);
+  if (!(top > 0)) return Eigen::Vector3d::Zero();
+  return nn.col(j) / std::sqrt(top);
+}
+
+/// Pairs every source point (moved by T) with its nearest target point within
+/// max_dist. `slot` holds the previous pairing (−1: none; empty on the
+/// first call): the previous partner's distance bounds the search, which
+/// prunes most of the tree and finds the same nearest point.
 void find_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
-                const Eigen::Isometry3d& T, double max_dist, int threads,
+                const Eigen::Isometry3d& T, double max_dist, detail::ThreadTeam& team,
                 std::vector<std::int64_t>& slot, std::vector<Pair3>& pairs) {
-  slot.assign(source.size(), -1);
+  if (slot.size() != source.size()) slot.assign(source.size(), -1);
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   const float gate = static_cast<float>(max_dist);
-  detail::parallel_for(source.size(), threads, [&](std::size_t i) {
+  detail::parallel_for(source.size(), team, [&](std::size_t i) {
     const Eigen::Vector3f q = R * source.points()[i] + t;
-    if (const auto nn = target.tree().nearest(q, gate)) slot[i] = nn->index;
+    float bound = gate;
+    if (slot[i] >= 0) {
+      const float d = (q - target.points()[static_cast<std::size_t>(slot[i])]).norm();
+      // A hair above d, so rounding cannot drop the previous partner.
+      if (d < gate) bound = std::min(gate, d * (1 + 1e-5f) + 1e-6f);
+    }
+    auto nn = target.tree().nearest(q, bound);
+    if (!nn && bound < gate) nn = target.tree().nearest(q, gate);
+    slot[i] = nn ? static_cast<std::int64_t>(nn->index) : -1;
   });
   pairs.clear();
   for (std::size_t i = 0; i < slot.size(); ++i)
@@ -190,16 +227,17 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
   std::vector<Pair3> pairs;
   bool converged = false, diverged = false, too_few = false;
   Linear6 lin;
+  detail::ThreadTeam team(o.num_threads);
   o.kernel.visit([&](const auto& kernel) {
     double lambda = o.lm_initial_lambda;
     for (int it = 0; it < o.max_iterations; ++it) {
-      find_pairs(target, source, T, o.max_correspondence_distance, o.num_threads, slot, pairs);
+      find_pairs(target, source, T, o.max_correspondence_distance, team, slot, pairs);
       res.iterations = it + 1;
       if (pairs.size() < o.min_correspondences) {
         too_few = true;
         return;
       }
-      lin = linearize(target, source, pairs, T, o.method, kernel, false, o.num_threads);
+      lin = linearize(target, source, pairs, T, o.method, kernel, false, team);
       // Levenberg–Marquardt on the fixed pairs: raise the damping until the
       // cost decreases (at most 10 tries; a zero step means converged).
       Vec6 delta = Vec6::Zero();
@@ -210,7 +248,7 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
         delta = A.ldlt().solve(-lin.b);
         if (!delta.allFinite()) break;
         T_new = T * Eigen::Isometry3d(SE3d::exp(delta).matrix());
-        const Linear6 trial = linearize(target, source, pairs, T_new, o.method, kernel, true, 1);
+        const Linear6 trial = linearize(target, source, pairs, T_new, o.method, kernel, true, team);
         if (trial.cost <= lin.cost) {
           lambda = std::max(lambda / 10.0, o.lm_initial_lambda);
           accepted = true;
@@ -254,7 +292,7 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
     return res;
   }
   const Linear6 fin = o.kernel.visit([&](const auto& kernel) {
-    return linearize(target, source, pairs, T, o.method, kernel, false, o.num_threads);
+    return linearize(target, source, pairs, T, o.method, kernel, false, team);
   });
   res.fitness = fin.sq_dist / static_cast<double>(pairs.size());
   res.final_cost = 0.5 * fin.cost;
@@ -269,8 +307,7 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
       if (target.has_normals()) {
         n[k] = target.normals()[ti].cast<double>();
       } else if (target.has_covariances()) {
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(target.covariances()[ti]);
-        n[k] = eig.eigenvectors().col(0);
+        n[k] = normal_of_gicp_covariance(target.covariances()[ti], target.options().gicp_epsilon);
       } else {
         Eigen::Vector3f nf;
         local_surface_3d(target.tree(), target.points()[ti], o.normal_neighbors, 1e-3, &nf, nullptr);

@@ -8,6 +8,7 @@
 #include "rove/registration/ndt.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -109,6 +110,94 @@ NdtGrid<Dim>::NdtGrid(std::span<const Eigen::Matrix<float, Dim, 1>> points,
     means.push_back(c.mean);
   }
   tree_ = KdTree<Dim, double>(std::move(means));
+  build_lookup();
+}
+
+template <int Dim>
+void NdtGrid<Dim>::build_lookup() {
+  using Key = Eigen::Matrix<std::int64_t, Dim, 1>;
+  if (cells_.empty()) return;
+  const double inv = 1.0 / options_.resolution;
+  std::vector<Key> own(cells_.size());
+  Key lo = Key::Constant(std::numeric_limits<std::int64_t>::max());
+  Key hi = Key::Constant(std::numeric_limits<std::int64_t>::min());
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    for (int d = 0; d < Dim; ++d) own[c][d] = static_cast<std::int64_t>(std::floor(cells_[c].mean[d] * inv));
+    lo = lo.cwiseMin(own[c]);
+    hi = hi.cwiseMax(own[c]);
+  }
+  const Key size = hi - lo + Key::Ones();
+  double volume = 1;
+  for (int d = 0; d < Dim; ++d) volume *= static_cast<double>(size[d]);
+  const double cap = std::max(double{1 << 22}, 64.0 * static_cast<double>(cells_.size()));
+  if (volume > cap) return;  // sparse and wide: cells_near searches the tree
+  lookup_min_ = lo;
+  lookup_size_ = size;
+  auto linear = [&](const Key& k) {
+    std::size_t l = 0;
+    for (int d = Dim - 1; d >= 0; --d) l = l * static_cast<std::size_t>(size[d]) + static_cast<std::size_t>(k[d] - lo[d]);
+    return l;
+  };
+  lookup_start_.assign(static_cast<std::size_t>(volume) + 1, 0);
+  for (const auto& k : own) ++lookup_start_[linear(k) + 1];
+  for (std::size_t l = 1; l < lookup_start_.size(); ++l) lookup_start_[l] += lookup_start_[l - 1];
+  lookup_cells_.resize(cells_.size());
+  std::vector<std::uint32_t> fill(lookup_start_.begin(), lookup_start_.end() - 1);
+  for (std::size_t c = 0; c < cells_.size(); ++c) lookup_cells_[fill[linear(own[c])]++] = static_cast<std::uint32_t>(c);
+}
+
+template <int Dim>
+std::size_t NdtGrid<Dim>::cells_near(const Point& x, std::span<Neighbor<double>, kMaxNear> out) const {
+  const double r = options_.resolution;
+  if (lookup_start_.empty()) {
+    if (cells_.empty()) return 0;
+    thread_local std::vector<Neighbor<double>> hits;
+    tree_.radius(x, r, hits, false);
+    const std::size_t n = std::min(hits.size(), kMaxNear);
+    std::copy_n(hits.begin(), n, out.begin());
+    return n;
+  }
+  if (!x.allFinite()) return 0;
+  const double inv = 1.0 / r, r2 = r * r;
+  // A mean within r of x lies in x's cell or one of its neighbours (cells
+  // have side r), so the 3^Dim cells around x hold the whole answer.
+  std::int64_t k0[Dim];
+  for (int d = 0; d < Dim; ++d) {
+    const double f = std::floor(x[d] * inv);
+    // Outside the box by more than a cell: nothing can be near.
+    if (!(f >= static_cast<double>(lookup_min_[d] - 1) &&
+          f <= static_cast<double>(lookup_min_[d] + lookup_size_[d])))
+      return 0;
+    k0[d] = static_cast<std::int64_t>(f) - lookup_min_[d];
+  }
+  std::size_t n = 0;
+  auto visit = [&](std::size_t l) {
+    for (std::uint32_t j = lookup_start_[l]; j < lookup_start_[l + 1]; ++j) {
+      const std::uint32_t c = lookup_cells_[j];
+      const Point& m = cells_[c].mean;
+      double d2 = 0;
+      for (int d = 0; d < Dim; ++d) {
+        const double diff = x[d] - m[d];
+        d2 += diff * diff;
+      }
+      if (d2 <= r2 && n < kMaxNear) out[n++] = Neighbor<double>{c, d2};
+    }
+  };
+  if constexpr (Dim == 3) {
+    for (std::int64_t a = std::max<std::int64_t>(k0[2] - 1, 0); a <= std::min(k0[2] + 1, lookup_size_[2] - 1); ++a)
+      for (std::int64_t b = std::max<std::int64_t>(k0[1] - 1, 0); b <= std::min(k0[1] + 1, lookup_size_[1] - 1); ++b) {
+        const std::size_t row = static_cast<std::size_t>((a * lookup_size_[1] + b) * lookup_size_[0]);
+        for (std::int64_t c = std::max<std::int64_t>(k0[0] - 1, 0); c <= std::min(k0[0] + 1, lookup_size_[0] - 1); ++c)
+          visit(row + static_cast<std::size_t>(c));
+      }
+  } else {
+    for (std::int64_t b = std::max<std::int64_t>(k0[1] - 1, 0); b <= std::min(k0[1] + 1, lookup_size_[1] - 1); ++b) {
+      const std::size_t row = static_cast<std::size_t>(b * lookup_size_[0]);
+      for (std::int64_t c = std::max<std::int64_t>(k0[0] - 1, 0); c <= std::min(k0[0] + 1, lookup_size_[0] - 1); ++c)
+        visit(row + static_cast<std::size_t>(c));
+    }
+  }
+  return n;
 }
 
 template class NdtGrid<2>;
@@ -236,12 +325,12 @@ struct Gauss {
 /// (Magnusson Algorithm 2, lines 17-21; eq. 6.10, 6.12, 6.13).
 template <class M>
 Eval<M> evaluate(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float, M::D, 1>> source,
-                 const typename M::Params& p, bool hessian, const Gauss& gc, int threads) {
+                 const typename M::Params& p, bool hessian, const Gauss& gc,
+                 detail::ThreadTeam& team) {
   const M model(p);
-  const double radius = grid.options().resolution;
-  return detail::parallel_reduce(source.size(), threads, Eval<M>{},
+  return detail::parallel_reduce(source.size(), team, Eval<M>{},
                                  [&](std::size_t b, std::size_t e, Eval<M>& a) {
-    std::vector<Neighbor<double>> nbrs;
+    std::array<Neighbor<double>, NdtGrid<M::D>::kMaxNear> near;
     Eigen::Matrix<double, M::D, M::P> J = Eigen::Matrix<double, M::D, M::P>::Zero();
     J.template leftCols<M::D>().setIdentity();
     typename M::Vec Hp[M::A][M::A];
@@ -251,15 +340,16 @@ Eval<M> evaluate(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float,
       if (!source[i].allFinite()) continue;
       const typename M::Vec x = source[i].template cast<double>();
       const typename M::Vec xt = model.R * x + model.t;
-      grid.tree().radius(xt, radius, nbrs, false);
-      if (nbrs.empty()) continue;
+      const std::size_t n_near = grid.cells_near(xt, near);
+      if (n_near == 0) continue;
       ++a.with_cell;
       double best = std::numeric_limits<double>::infinity();
       for (int k = 0; k < M::A; ++k) J.col(M::D + k) = model.dR[k] * x;
       if (hessian)
         for (int k = 0; k < M::A; ++k)
           for (int l = 0; l < M::A; ++l) Hp[k][l] = model.d2R[k][l] * x;
-      for (const auto& nb : nbrs) {
+      for (std::size_t j = 0; j < n_near; ++j) {
+        const Neighbor<double>& nb = near[j];
         best = std::min(best, nb.sq_distance);
         const auto& cell = grid.cells()[nb.index];
         const typename M::Vec xp = xt - cell.mean;
@@ -367,7 +457,8 @@ NdtRun<M> run_ndt(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float
                   double (*step_cos_angle)(const typename M::Params&)) {
   using Params = typename M::Params;
   NdtRun<M> run;
-  Eval<M> ev = evaluate<M>(grid, source, p, true, gc, o.num_threads);
+  detail::ThreadTeam team(o.num_threads);
+  Eval<M> ev = evaluate<M>(grid, source, p, true, gc, team);
   while (true) {
     Eigen::JacobiSVD<Eigen::Matrix<double, M::P, M::P>> svd(ev.H, Eigen::ComputeFullU |
                                                                       Eigen::ComputeFullV);
@@ -398,7 +489,7 @@ NdtRun<M> run_ndt(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float
     double f_u = f_l, g_u = g_l;
     bool interval_converged = (step_max - step_min) < 0, open_interval = true;
     a_t = std::clamp(delta_norm, step_min, step_max);
-    ev = evaluate<M>(grid, source, p + delta * a_t, true, gc, o.num_threads);
+    ev = evaluate<M>(grid, source, p + delta * a_t, true, gc, team);
     double phi_t = -ev.score, d_phi_t = -ev.g.dot(delta);
     double psi_t = psi(a_t, phi_t, phi_0, d_phi_0, mu), d_psi_t = dpsi(d_phi_t, d_phi_0, mu);
     int steps = 0;
@@ -406,7 +497,7 @@ NdtRun<M> run_ndt(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float
       a_t = open_interval ? select_trial(a_l, f_l, g_l, a_u, f_u, g_u, a_t, psi_t, d_psi_t)
                           : select_trial(a_l, f_l, g_l, a_u, f_u, g_u, a_t, phi_t, d_phi_t);
       a_t = std::clamp(a_t, step_min, step_max);
-      ev = evaluate<M>(grid, source, p + delta * a_t, false, gc, o.num_threads);
+      ev = evaluate<M>(grid, source, p + delta * a_t, false, gc, team);
       phi_t = -ev.score;
       d_phi_t = -ev.g.dot(delta);
       psi_t = psi(a_t, phi_t, phi_0, d_phi_0, mu);
@@ -425,7 +516,7 @@ NdtRun<M> run_ndt(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float
     }
     const Params step = delta * a_t;
     p += step;
-    if (steps) ev = evaluate<M>(grid, source, p, true, gc, o.num_threads);
+    if (steps) ev = evaluate<M>(grid, source, p, true, gc, team);
     ++run.iterations;
     if (!p.allFinite() || !std::isfinite(ev.score)) {
       run.diverged = true;

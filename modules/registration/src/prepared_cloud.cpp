@@ -10,6 +10,13 @@
 
 namespace rove {
 
+namespace {
+template <typename PointOf>
+void local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
+                   std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
+                   Eigen::Matrix3d* covariance);
+}  // namespace
+
 PreparedCloud3D::PreparedCloud3D() = default;
 PreparedCloud3D::PreparedCloud3D(PreparedCloud3D&&) noexcept = default;
 PreparedCloud3D& PreparedCloud3D::operator=(PreparedCloud3D&&) noexcept = default;
@@ -28,15 +35,24 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
   if (options.normals) normals_.assign(points_.size(), Eigen::Vector3f::Zero());
   if (options.covariances) covariances_.assign(points_.size(), Eigen::Matrix3d::Identity());
   if (!options.normals && !options.covariances) return;
+  // The tree indexes every point of points_ (all finite), so a neighbour's
+  // index is its position in points_.
+  const auto point = [this](std::uint32_t j) -> const Eigen::Vector3f& { return points_[j]; };
   detail::parallel_for(points_.size(), options.num_threads, [&](std::size_t i) {
-    local_surface_3d(tree_, points_[i], options.neighbors, options.gicp_epsilon,
+    local_surface(tree_, point, points_[i], options.neighbors, options.gicp_epsilon,
                      options.normals ? &normals_[i] : nullptr,
                      options.covariances ? &covariances_[i] : nullptr);
   });
 }
 
-void local_surface_3d(const KdTree3f& tree, const Eigen::Vector3f& query, std::size_t k,
-                      double gicp_epsilon, Eigen::Vector3f* normal, Eigen::Matrix3d* covariance) {
+namespace {
+
+/// local_surface_3d with the neighbours' coordinates read through `point`
+/// (source index → coordinates).
+template <typename PointOf>
+void local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
+                   std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
+                   Eigen::Matrix3d* covariance) {
   constexpr std::size_t kMaxK = 64;
   Neighbor<float> buf[kMaxK];
   std::vector<Neighbor<float>> big;
@@ -46,31 +62,47 @@ void local_surface_3d(const KdTree3f& tree, const Eigen::Vector3f& query, std::s
     nn = big;
   }
   const std::size_t m = tree.knn(query, k, nn);
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-  for (std::size_t j = 0; j < m; ++j) {
-    const Eigen::Vector3d p = tree.indexed_point(nn[j].index).cast<double>();
-    mean += p;
-    S += p * p.transpose();
-  }
   if (m < 3) {
     if (normal) normal->setZero();
     if (covariance) *covariance = Eigen::Matrix3d::Identity();
     return;
   }
+  // Moments about the query point: the sums stay small, so the covariance
+  // keeps its precision far from the origin.
+  const Eigen::Vector3d origin = query.cast<double>();
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+  for (std::size_t j = 0; j < m; ++j) {
+    const Eigen::Vector3d p = Eigen::Vector3f(point(nn[j].index)).cast<double>() - origin;
+    mean += p;
+    S.noalias() += p * p.transpose();
+  }
   mean /= static_cast<double>(m);
-  const Eigen::Matrix3d C = S / static_cast<double>(m) - mean * mean.transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+  Eigen::Matrix3d C = S / static_cast<double>(m);
+  C.noalias() -= mean * mean.transpose();
+  // Closed-form 3×3 eigen-decomposition (as small_gicp): the iterative
+  // solver costs more than the neighbour search here.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(C);
   const bool flat = !(eig.eigenvalues()(2) > 0);
   if (normal) *normal = flat ? Eigen::Vector3f::Zero() : Eigen::Vector3f(eig.eigenvectors().col(0).cast<float>());
   if (covariance) {
     if (flat) {
       *covariance = Eigen::Matrix3d::Identity();
     } else {
-      const Eigen::Vector3d lambda(gicp_epsilon, 1.0, 1.0);
-      *covariance = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+      // V·diag(ε, 1, 1)·Vᵀ = I − (1 − ε)·v₁v₁ᵀ.
+      const Eigen::Vector3d v = eig.eigenvectors().col(0);
+      *covariance = Eigen::Matrix3d::Identity() - (1.0 - gicp_epsilon) * v * v.transpose();
     }
   }
+}
+
+}  // namespace
+
+void local_surface_3d(const KdTree3f& tree, const Eigen::Vector3f& query, std::size_t k,
+                      double gicp_epsilon, Eigen::Vector3f* normal, Eigen::Matrix3d* covariance) {
+  local_surface(tree, [&](std::uint32_t i) { return tree.indexed_point(i); }, query, k,
+                gicp_epsilon, normal, covariance);
 }
 
 }  // namespace rove

@@ -1,5 +1,9 @@
 #include "rove/registration/ndt.h"
 
+#include <algorithm>
+#include <array>
+#include <random>
+
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
@@ -140,6 +144,58 @@ TEST(Ndt2d, CorridorIsDegenerate) {
   const NdtGrid2D grid(std::span<const Eigen::Vector2f>(c), go);
   const auto r = ndt_2d(grid, seen_from(c, Pose2(0.2, 0.05, 0.01)), Pose2(), tight());
   EXPECT_EQ(r.termination, RegistrationTermination::Degenerate) << r.message;
+}
+
+TEST(Ndt3d, CellsNearEqualsTheTreeRadiusSearch) {
+  // Oracle: the dense cell index gives the KD-tree's radius set, with the
+  // same squared distances, for queries inside, at the border of and far
+  // outside the grid; and for a grid too wide for the dense index (tree
+  // path).
+  for (double spread : {1.0, 1e5}) {
+    auto scene = test::room_3d(0.05);
+    if (spread > 1) {
+      const auto far = test::room_3d(0.05);
+      for (const auto& p : far) scene.push_back(p + Eigen::Vector3f(static_cast<float>(spread), 0, 0));
+    }
+    NdtGridOptions go;
+    go.resolution = 0.7;
+    const NdtGrid3D grid(std::span<const Eigen::Vector3f>(scene), go);
+    ASSERT_FALSE(grid.empty());
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> xy(-5.5, 5.5), z(-1.5, 4.5);
+    std::array<Neighbor<double>, NdtGrid3D::kMaxNear> near;
+    for (int i = 0; i < 4000; ++i) {
+      const Eigen::Vector3d x(xy(rng), xy(rng), z(rng));
+      const std::size_t n = grid.cells_near(x, near);
+      auto expected = grid.tree().radius(x, go.resolution);
+      std::vector<Neighbor<double>> got(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(n));
+      auto by_index = [](const Neighbor<double>& a, const Neighbor<double>& b) { return a.index < b.index; };
+      std::sort(got.begin(), got.end(), by_index);
+      std::sort(expected.begin(), expected.end(), by_index);
+      ASSERT_EQ(got, expected) << "query " << x.transpose() << " spread " << spread;
+    }
+  }
+}
+
+TEST(Ndt2d, CellsNearEqualsTheTreeRadiusSearch) {
+  NdtGridOptions go;
+  go.resolution = 0.5;
+  const auto scene = room_2d(0.02);
+  const NdtGrid2D grid(std::span<const Eigen::Vector2f>(scene), go);
+  ASSERT_FALSE(grid.empty());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-7, 7);
+  std::array<Neighbor<double>, NdtGrid2D::kMaxNear> near;
+  auto by_index = [](const Neighbor<double>& a, const Neighbor<double>& b) { return a.index < b.index; };
+  for (int i = 0; i < 4000; ++i) {
+    const Eigen::Vector2d x(u(rng), u(rng));
+    const std::size_t n = grid.cells_near(x, near);
+    auto expected = grid.tree().radius(x, go.resolution);
+    std::vector<Neighbor<double>> got(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(n));
+    std::sort(got.begin(), got.end(), by_index);
+    std::sort(expected.begin(), expected.end(), by_index);
+    ASSERT_EQ(got, expected) << "query " << x.transpose();
+  }
 }
 
 }  // namespace

@@ -30,6 +30,7 @@
 /// not as calibrated metres.
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
@@ -89,12 +90,31 @@ class NdtGrid {
   bool empty() const noexcept { return cells_.empty(); }
   /// KD-tree over the cell means (indices refer to cells()).
   const KdTree<Dim, double>& tree() const noexcept { return tree_; }
+
+  /// Most cells cells_near can report: 3^Dim.
+  static constexpr std::size_t kMaxNear = Dim == 3 ? 27 : 9;
+  /// The cells whose mean is within `resolution` of x (distance ≤
+  /// resolution; the set tree().radius(x, resolution) returns, with the same
+  /// squared distances), written to the front of `out` in a deterministic
+  /// order; returns how many. Reads the 3^Dim cells around x in a dense
+  /// index when the grid's extent allows it (≤ 2^22 cells, or 64 per
+  /// Gaussian cell), else searches the KD-tree.
+  std::size_t cells_near(const Point& x, std::span<Neighbor<double>, kMaxNear> out) const;
   /// The options it was built with.
   const NdtGridOptions& options() const noexcept { return options_; }
 
  private:
   std::vector<NdtCell<Dim>> cells_;
   KdTree<Dim, double> tree_;
+  void build_lookup();
+  // Dense index over the bounding box of the means' own cells
+  // (floor(mean / resolution)), CSR: the means in lookup cell c are
+  // lookup_cells_[lookup_start_[c] .. lookup_start_[c + 1]). Empty when the
+  // box is too large; cells_near then uses the tree.
+  Eigen::Matrix<std::int64_t, Dim, 1> lookup_min_ = Eigen::Matrix<std::int64_t, Dim, 1>::Zero();
+  Eigen::Matrix<std::int64_t, Dim, 1> lookup_size_ = Eigen::Matrix<std::int64_t, Dim, 1>::Zero();
+  std::vector<std::uint32_t> lookup_start_;
+  std::vector<std::uint32_t> lookup_cells_;
   NdtGridOptions options_;
 };
 

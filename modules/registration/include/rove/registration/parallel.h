@@ -6,10 +6,17 @@
 /// are summed in block order. So the result is bit-for-bit the same with 1 or
 /// N threads (a property the tests check), and parallelism stays an option of
 /// each algorithm, never a process-wide setting.
+///
+/// A solver that reduces many times (an iteration loop) creates one
+/// ThreadTeam for its run and passes it to every reduction, so threads are
+/// started once per call of the solver, not once per pass.
 
 #include <algorithm>
+#include <condition_variable>
 #include <cstddef>
 #include <exception>
+#include <functional>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -19,56 +26,151 @@ namespace rove::detail {
 /// balance 2 to 8 threads on clouds of a few thousand points.
 inline constexpr std::size_t kReduceBlock = 256;
 
-/// Calls `body(begin, end, acc)` for consecutive blocks of [0, n) on up to
-/// `num_threads` threads (≤ 1: the calling thread only) and returns
-/// `init` plus the sum of the per-block accumulators in block order.
-/// Acc must be default-constructible, copyable and have operator+=.
-/// An exception thrown in a block is rethrown on the calling thread.
-template <typename Acc, typename Body>
-Acc parallel_reduce(std::size_t n, int num_threads, const Acc& zero, Body&& body) {
-  const std::size_t blocks = (n + kReduceBlock - 1) / kReduceBlock;
-  std::vector<Acc> partial(blocks, zero);
-  auto run = [&](std::size_t b) {
-    const std::size_t begin = b * kReduceBlock;
-    const std::size_t end = std::min(n, begin + kReduceBlock);
-    body(begin, end, partial[b]);
-  };
-  const std::size_t threads =
-      std::min<std::size_t>(blocks, static_cast<std::size_t>(std::max(1, num_threads)));
-  if (threads <= 1) {
-    for (std::size_t b = 0; b < blocks; ++b) run(b);
-  } else {
-    std::vector<std::exception_ptr> errors(threads);
-    std::vector<std::thread> pool;
-    pool.reserve(threads - 1);
-    auto worker = [&](std::size_t t) {
-      try {
-        for (std::size_t b = t; b < blocks; b += threads) run(b);
-      } catch (...) {
-        errors[t] = std::current_exception();
-      }
-    };
-    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker, t);
-    worker(0);
-    for (auto& th : pool) th.join();
-    for (auto& e : errors)
+/// num_threads − 1 worker threads that sleep between jobs; the calling thread
+/// is member 0. Not copyable; one job at a time (not thread-safe itself).
+class ThreadTeam {
+ public:
+  /// Starts max(num_threads, 1) − 1 workers.
+  explicit ThreadTeam(int num_threads) : size_(std::max(1, num_threads)) {
+    workers_.reserve(static_cast<std::size_t>(size_ - 1));
+    for (int t = 1; t < size_; ++t) workers_.emplace_back([this, t] { loop(t); });
+  }
+  ThreadTeam(const ThreadTeam&) = delete;
+  ThreadTeam& operator=(const ThreadTeam&) = delete;
+  ~ThreadTeam() {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (auto& w : workers_) w.join();
+  }
+  /// Members, ≥ 1.
+  int size() const noexcept { return size_; }
+  /// Calls job(t) for every member t in [0, size()) — t = 0 on the calling
+  /// thread — and returns when all are done. The first exception thrown by a
+  /// member is rethrown here.
+  void run(const std::function<void(int)>& job) {
+    if (size_ == 1) {
+      job(0);
+      return;
+    }
+    errors_.assign(static_cast<std::size_t>(size_), nullptr);
+    {
+      std::lock_guard lock(mutex_);
+      job_ = &job;
+      pending_ = size_ - 1;
+      ++generation_;
+    }
+    wake_.notify_all();
+    try {
+      job(0);
+    } catch (...) {
+      errors_[0] = std::current_exception();
+    }
+    {
+      std::unique_lock lock(mutex_);
+      done_.wait(lock, [this] { return pending_ == 0; });
+      job_ = nullptr;
+    }
+    for (auto& e : errors_)
       if (e) std::rethrow_exception(e);
   }
+
+ private:
+  void loop(int t) {
+    std::size_t seen = 0;
+    while (true) {
+      const std::function<void(int)>* job = nullptr;
+      {
+        std::unique_lock lock(mutex_);
+        wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+        if (stop_) return;
+        seen = generation_;
+        job = job_;
+      }
+      try {
+        (*job)(t);
+      } catch (...) {
+        errors_[static_cast<std::size_t>(t)] = std::current_exception();
+      }
+      {
+        std::lock_guard lock(mutex_);
+        --pending_;
+      }
+      done_.notify_one();
+    }
+  }
+
+  int size_;
+  std::vector<std::thread> workers_;
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  const std::function<void(int)>* job_ = nullptr;
+  std::size_t generation_ = 0;
+  int pending_ = 0;
+  bool stop_ = false;
+  std::vector<std::exception_ptr> errors_;
+};
+
+/// Calls `body(begin, end, acc)` for consecutive blocks of [0, n), block b on
+/// member b mod team.size(), and returns `zero` plus the sum of the per-block
+/// accumulators in block order. Acc must be copyable and have operator+=.
+/// An exception thrown in a block is rethrown on the calling thread.
+template <typename Acc, typename Body>
+Acc parallel_reduce(std::size_t n, ThreadTeam& team, const Acc& zero, Body&& body) {
+  const std::size_t blocks = (n + kReduceBlock - 1) / kReduceBlock;
+  auto run = [&](std::size_t b, Acc& acc) {
+    const std::size_t begin = b * kReduceBlock;
+    const std::size_t end = std::min(n, begin + kReduceBlock);
+    body(begin, end, acc);
+  };
   Acc total = zero;
+  const std::size_t threads = std::min<std::size_t>(blocks, static_cast<std::size_t>(team.size()));
+  if (threads <= 1) {
+    // Same association as the parallel path: each block from zero, then
+    // added in order.
+    for (std::size_t b = 0; b < blocks; ++b) {
+      Acc partial = zero;
+      run(b, partial);
+      total += partial;
+    }
+    return total;
+  }
+  std::vector<Acc> partial(blocks, zero);
+  team.run([&](int t) {
+    for (std::size_t b = static_cast<std::size_t>(t); b < blocks; b += threads) run(b, partial[b]);
+  });
   for (const auto& p : partial) total += p;
   return total;
 }
 
-/// Calls `body(i)` for every i in [0, n) on up to `num_threads` threads;
-/// `body` must only write to state owned by index i.
+/// As above with a team of `num_threads` started for this call only.
+template <typename Acc, typename Body>
+Acc parallel_reduce(std::size_t n, int num_threads, const Acc& zero, Body&& body) {
+  const std::size_t blocks = (n + kReduceBlock - 1) / kReduceBlock;
+  ThreadTeam team(static_cast<int>(
+      std::min<std::size_t>(blocks, static_cast<std::size_t>(std::max(1, num_threads)))));
+  return parallel_reduce(n, team, zero, std::forward<Body>(body));
+}
+
+/// Calls `body(i)` for every i in [0, n) on the team's threads; `body` must
+/// only write to state owned by index i.
 template <typename Body>
-void parallel_for(std::size_t n, int num_threads, Body&& body) {
+void parallel_for(std::size_t n, ThreadTeam& team, Body&& body) {
   struct Nothing {
     Nothing& operator+=(const Nothing&) { return *this; }
   };
-  parallel_reduce(n, num_threads, Nothing{}, [&](std::size_t b, std::size_t e, Nothing&) {
+  parallel_reduce(n, team, Nothing{}, [&](std::size_t b, std::size_t e, Nothing&) {
     for (std::size_t i = b; i < e; ++i) body(i);
   });
+}
+
+/// As above with a team of `num_threads` started for this call only.
+template <typename Body>
+void parallel_for(std::size_t n, int num_threads, Body&& body) {
+  ThreadTeam team(std::max(1, num_threads));
+  parallel_for(n, team, std::forward<Body>(body));
 }
 
 }  // namespace rove::detail
