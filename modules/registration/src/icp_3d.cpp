@@ -301,6 +301,25 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
   bool degenerate = false;
   if (o.degeneracy_threshold > 0) {
     std::vector<Eigen::Vector3d> q(pairs.size()), n(pairs.size());
+    // A target without normals or covariances: fit a normal once per matched
+    // target point (several source points often share one), on the team.
+    std::vector<Eigen::Vector3f> fitted;
+    if (!target.has_normals() && !target.has_covariances()) {
+      std::vector<std::uint32_t> matched;
+      matched.reserve(pairs.size());
+      std::vector<bool> seen(target.size(), false);
+      for (const Pair3& pr : pairs)
+        if (!seen[pr.target]) {
+          seen[pr.target] = true;
+          matched.push_back(pr.target);
+        }
+      fitted.assign(target.size(), Eigen::Vector3f::Zero());
+      detail::parallel_for(matched.size(), team, [&](std::size_t j) {
+        const std::uint32_t ti = matched[j];
+        local_surface_3d(target.tree(), target.points()[ti], o.normal_neighbors, 1e-3, &fitted[ti],
+                         nullptr);
+      });
+    }
     for (std::size_t k = 0; k < pairs.size(); ++k) {
       q[k] = T * source.points()[pairs[k].source].cast<double>();
       const std::uint32_t ti = pairs[k].target;
@@ -309,9 +328,7 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
       } else if (target.has_covariances()) {
         n[k] = normal_of_gicp_covariance(target.covariances()[ti], target.options().gicp_epsilon);
       } else {
-        Eigen::Vector3f nf;
-        local_surface_3d(target.tree(), target.points()[ti], o.normal_neighbors, 1e-3, &nf, nullptr);
-        n[k] = nf.cast<double>();
+        n[k] = fitted[ti].cast<double>();
       }
     }
     res.conditioning = point_to_plane_conditioning(q, n);
