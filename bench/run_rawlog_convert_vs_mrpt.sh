@@ -49,8 +49,13 @@ for i in 1 2 3; do
   run "rawlog-edit --cut --from-index 0" rawlog-edit -q -w --cut --from-index 0 -i "$work/intel.rawlog" -o "$work/m2.rawlog"
   run "rove export-scans" "$ROVE" rawlog export-scans --no-progress "$work/intel.rawlog" "$work/rove_FLASER.txt"
   run "rove export-odometry" "$ROVE" rawlog export-odometry --no-progress "$work/intel.rawlog" "$work/rove_ODOMETRY.txt"
-  run "rawlog-edit --export-2d-scans-txt" rawlog-edit -q --export-2d-scans-txt -i "$work/intel.rawlog"
+  # rawlog-edit 2.5.8 joins the input's folder and the export name without a
+# slash (/tmp/x/intel.rawlog -> /tmp/xintel_FLASER.txt): run it from the
+# work directory on a relative path.
+  run "rawlog-edit --export-2d-scans-txt" bash -c 'cd "$1" && rawlog-edit -q --export-2d-scans-txt -i intel.rawlog' _ "$work"
 done
-cmp "$work/rove_FLASER.txt" "$work/intel_FLASER.txt" && echo "scan export: identical to rawlog-edit's ($(wc -l < "$work/intel_FLASER.txt") lines)"
-cmp "$work/rove_ODOMETRY.txt" "$work/intel_ODOMETRY.txt" && echo "odometry export: identical to rawlog-edit's ($(wc -l < "$work/intel_ODOMETRY.txt") lines)"
+cmp "$work/rove_FLASER.txt" "$work/intel_FLASER.txt"
+echo "scan export: identical to rawlog-edit's ($(wc -l < "$work/intel_FLASER.txt") lines)"
+cmp "$work/rove_ODOMETRY.txt" "$work/intel_ODOMETRY.txt"
+echo "odometry export: identical to rawlog-edit's ($(wc -l < "$work/intel_ODOMETRY.txt") lines)"
 echo "sizes: rove CARMEN→rawlog $(stat -c %s "$work/r1.rawlog") B, carmen2rawlog $(stat -c %s "$work/m1.rawlog") B; rove MRPT→rove $(stat -c %s "$work/r2.rawlog") B, rawlog-edit cut $(stat -c %s "$work/m2.rawlog") B"
