@@ -140,10 +140,53 @@ struct Matching {
   std::vector<Pair2> pairs;
   std::size_t sources_with_pair = 0;
   std::size_t sources_considered = 0;
+  /// onlyUniqueRobust scratch: per target point, the index in `pairs` of its
+  /// closest pair so far (kNone when untouched). Sized once per icp_2d call
+  /// and reset entry by entry, so a pairing costs O(pairs), not O(target).
+  std::vector<std::uint32_t> best_of_target;
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 };
 
+/// Pairs the source points k·decimation + offset, k in [b, e), appending to
+/// `pairs`; returns how many of them found a pair.
+std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+                        double c, double s, const Eigen::Vector2d& pivot, double thr,
+                        double thr_ang, std::size_t offset, std::size_t decimation,
+                        bool only_closest, std::size_t b, std::size_t e,
+                        std::vector<Pair2>& pairs, std::vector<Neighbor<double>>& nbrs) {
+  std::size_t with_pair = 0;
+  for (std::size_t k = b; k < e; ++k) {
+    const std::size_t i = offset + k * decimation;
+    const Eigen::Vector2d& p = source[i];
+    if (!p.allFinite()) continue;
+    const Eigen::Vector2d q(c * p.x() - s * p.y() + pivot.x(), s * p.x() + c * p.y() + pivot.y());
+    const double gate = thr_ang * (q - pivot).norm() + thr;
+    if (only_closest) {
+      // The search is bounded by the gate (inclusive); the gate itself is
+      // strict, as MRPT's.
+      const auto nn = target.tree().nearest(q, gate);
+      if (nn && nn->sq_distance < gate * gate) {
+        pairs.push_back({static_cast<std::uint32_t>(i), nn->index, nn->sq_distance});
+        ++with_pair;
+      }
+    } else {
+      target.tree().radius(q, gate, nbrs, false);
+      bool any = false;
+      for (const auto& nb : nbrs) {
+        if (nb.sq_distance < gate * gate) {
+          pairs.push_back({static_cast<std::uint32_t>(i), nb.index, nb.sq_distance});
+          any = true;
+        }
+      }
+      if (any) ++with_pair;
+    }
+  }
+  return with_pair;
+}
+
 /// MRPT's CPointsMap::determineMatching2D / COccupancyGridMap2D matching,
-/// over a KD-tree (see the header comment for the gate).
+/// over a KD-tree (see the header comment for the gate). Pairs come out in
+/// source order.
 void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, const Pose2& T,
            double thr, double thr_ang, std::size_t offset, std::size_t decimation,
            bool only_closest, bool unique, int threads, Matching& out) {
@@ -154,58 +197,74 @@ void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, c
   out.sources_considered = n_sel;
   const double c = std::cos(T.phi()), s = std::sin(T.phi());
   const Eigen::Vector2d pivot = T.translation();
-  struct Acc {
-    std::vector<Pair2> pairs;
-    std::size_t with_pair = 0;
-    Acc& operator+=(const Acc& o) {
-      pairs.insert(pairs.end(), o.pairs.begin(), o.pairs.end());
-      with_pair += o.with_pair;
-      return *this;
-    }
-  };
-  Acc acc = detail::parallel_reduce(n_sel, threads, Acc{}, [&](std::size_t b, std::size_t e, Acc& a) {
+  if (threads <= 1 || n_sel <= detail::kReduceBlock) {
+    // Serial: straight into out.pairs, whose capacity is reused across
+    // iterations (no allocation once warm).
     std::vector<Neighbor<double>> nbrs;
-    for (std::size_t k = b; k < e; ++k) {
-      const std::size_t i = offset + k * decimation;
-      const Eigen::Vector2d& p = source[i];
-      if (!p.allFinite()) continue;
-      const Eigen::Vector2d q(c * p.x() - s * p.y() + pivot.x(), s * p.x() + c * p.y() + pivot.y());
-      const double gate = thr_ang * (q - pivot).norm() + thr;
-      if (only_closest) {
-        const auto nn = target.tree().nearest(q);
-        if (nn && nn->sq_distance < gate * gate) {
-          a.pairs.push_back({static_cast<std::uint32_t>(i), nn->index, nn->sq_distance});
-          ++a.with_pair;
-        }
-      } else {
-        target.tree().radius(q, gate, nbrs, false);
-        bool any = false;
-        for (const auto& nb : nbrs) {
-          if (nb.sq_distance < gate * gate) {
-            a.pairs.push_back({static_cast<std::uint32_t>(i), nb.index, nb.sq_distance});
-            any = true;
-          }
-        }
-        if (any) ++a.with_pair;
+    out.sources_with_pair = match_range(target, source, c, s, pivot, thr, thr_ang, offset,
+                                        decimation, only_closest, 0, n_sel, out.pairs, nbrs);
+  } else {
+    struct Acc {
+      std::vector<Pair2> pairs;
+      std::size_t with_pair = 0;
+      Acc& operator+=(const Acc& o) {
+        pairs.insert(pairs.end(), o.pairs.begin(), o.pairs.end());
+        with_pair += o.with_pair;
+        return *this;
       }
-    }
-  });
-  out.sources_with_pair = acc.with_pair;
-  out.pairs = std::move(acc.pairs);
-  if (unique && !out.pairs.empty()) {
-    // Each target point keeps its closest pair (ties: the lower source index).
-    std::sort(out.pairs.begin(), out.pairs.end(), [](const Pair2& a, const Pair2& b) {
-      if (a.target != b.target) return a.target < b.target;
-      if (a.sq_dist != b.sq_dist) return a.sq_dist < b.sq_dist;
-      return a.source < b.source;
+    };
+    Acc acc = detail::parallel_reduce(n_sel, threads, Acc{},
+                                      [&](std::size_t b, std::size_t e, Acc& a) {
+      std::vector<Neighbor<double>> nbrs;
+      a.with_pair += match_range(target, source, c, s, pivot, thr, thr_ang, offset, decimation,
+                                 only_closest, b, e, a.pairs, nbrs);
     });
-    std::size_t w = 0;
-    for (std::size_t r = 0; r < out.pairs.size(); ++r)
-      if (r == 0 || out.pairs[r].target != out.pairs[r - 1].target) out.pairs[w++] = out.pairs[r];
-    out.pairs.resize(w);
-    std::sort(out.pairs.begin(), out.pairs.end(),
-              [](const Pair2& a, const Pair2& b) { return a.source < b.source; });
+    out.sources_with_pair = acc.with_pair;
+    out.pairs.assign(acc.pairs.begin(), acc.pairs.end());
   }
+  if (unique && !out.pairs.empty()) {
+    // Each target point keeps its closest pair (ties: the lower source
+    // index, i.e. the earlier pair). One pass records the winner per target
+    // point, a second keeps the winners in source order.
+    auto& best = out.best_of_target;
+    if (best.size() != target.size()) best.assign(target.size(), Matching::kNone);
+    const auto np = static_cast<std::uint32_t>(out.pairs.size());
+    for (std::uint32_t r = 0; r < np; ++r) {
+      std::uint32_t& w = best[out.pairs[r].target];
+      if (w == Matching::kNone || out.pairs[r].sq_dist < out.pairs[w].sq_dist) w = r;
+    }
+    std::size_t kept = 0;
+    for (std::uint32_t r = 0; r < np; ++r)
+      if (best[out.pairs[r].target] == r) out.pairs[kept++] = out.pairs[r];
+    out.pairs.resize(kept);
+    for (const Pair2& p : out.pairs) best[p.target] = Matching::kNone;
+  }
+}
+
+/// The closed-form least-squares rigid motion of the pairs (Lu & Milios
+/// 1997, eqs. 12-13; the arithmetic of fit_rigid_2d with unit weights,
+/// without its covariance, which ICP needs only at the end).
+Pose2 closed_form_fit(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+                      const std::vector<Pair2>& pairs) {
+  const auto& tp = target.points();
+  Eigen::Vector2d cs = Eigen::Vector2d::Zero(), ct = Eigen::Vector2d::Zero();
+  for (const Pair2& pr : pairs) {
+    cs += source[pr.source];
+    ct += tp[pr.target];
+  }
+  const double sw = static_cast<double>(pairs.size());
+  cs /= sw;
+  ct /= sw;
+  double s_dot = 0, s_cross = 0;
+  for (const Pair2& pr : pairs) {
+    const Eigen::Vector2d a = source[pr.source] - cs, b = tp[pr.target] - ct;
+    s_dot += a.x() * b.x() + a.y() * b.y();
+    s_cross += a.x() * b.y() - a.y() * b.x();
+  }
+  const double phi = std::atan2(s_cross, s_dot);
+  const double c = std::cos(phi), s = std::sin(phi);
+  const Eigen::Vector2d t = ct - Eigen::Vector2d(c * cs.x() - s * cs.y(), s * cs.x() + c * cs.y());
+  return Pose2(t.x(), t.y(), phi);
 }
 
 /// Residual Jacobian row(s) of one pair with respect to (x, y, phi) at T:
@@ -348,13 +407,7 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
     }
     Pose2 next = pose;
     if (o.algorithm == IcpAlgorithm::Classic && o.metric == Icp2dMetric::PointToPoint) {
-      std::vector<Eigen::Vector2d> tp(m.pairs.size()), sp(m.pairs.size());
-      for (std::size_t k = 0; k < m.pairs.size(); ++k) {
-        tp[k] = target.points()[m.pairs[k].target];
-        sp[k] = source[m.pairs[k].source];
-      }
-      const RigidFit2Result fit = fit_rigid_2d(tp, sp);
-      next = fit.T_target_source.mean();
+      next = closed_form_fit(target, source, m.pairs);
     } else if (o.algorithm == IcpAlgorithm::Classic) {
       const Normal3 ne = accumulate(target, source, m.pairs, pose, o.metric, TrivialKernel{},
                                     false, o.num_threads);
