@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <fmt/format.h>
 
 #include "rove/core/check.h"
@@ -38,6 +39,11 @@ void Icp2dOptions::check() const {
   ROVE_CHECK_MSG(std::isfinite(lm_initial_lambda) && lm_initial_lambda > 0,
                  "LM_initial_lambda must be finite and > 0, got {}", lm_initial_lambda);
   ROVE_CHECK_GE(lm_inner_iterations, 1u);
+  ROVE_CHECK_MSG(std::isfinite(axy_aprox_derivatives) && axy_aprox_derivatives > 0,
+                 "Axy_aprox_derivatives must be finite and > 0, got {}", axy_aprox_derivatives);
+  ROVE_CHECK_MSG(algorithm != IcpAlgorithm::LevenbergMarquardt || metric == Icp2dMetric::PointToPoint,
+                 "MRPT's icpLevenbergMarquardt is point-to-point only; use "
+                 "icpRobustLevenbergMarquardt for the point-to-line metric");
   ROVE_CHECK_MSG(degeneracy_threshold >= 0 && degeneracy_threshold < 1,
                  "degeneracy_threshold must be in [0, 1), got {}", degeneracy_threshold);
   ROVE_CHECK_GE(normal_neighbors, 3u);
@@ -53,7 +59,9 @@ Icp2dOptions icp_2d_options_from_ini(const IniFile& ini, std::string_view sectio
                     ? ini.get_enum<IcpAlgorithm>(s, "ICP_algorithm",
                                                  {{"icpClassic", IcpAlgorithm::Classic},
                                                   {"icpLevenbergMarquardt",
-                                                   IcpAlgorithm::LevenbergMarquardt}})
+                                                   IcpAlgorithm::LevenbergMarquardt},
+                                                  {"icpRobustLevenbergMarquardt",
+                                                   IcpAlgorithm::RobustLevenbergMarquardt}})
                     : o.algorithm;
   o.covariance_method =
       ini.has(s, "ICP_covariance_method")
@@ -109,9 +117,10 @@ Icp2dOptions icp_2d_options_from_ini(const IniFile& ini, std::string_view sectio
   o.degeneracy_threshold = ini.get_or<double>(s, "degeneracy_threshold", o.degeneracy_threshold);
   o.normal_neighbors = ini.get_or<unsigned>(s, "normal_neighbors", o.normal_neighbors);
   o.num_threads = ini.get_or<int>(s, "num_threads", o.num_threads);
-  // Accepted for MRPT compatibility, without effect: rove differentiates
-  // analytically and has no separate quality measure.
-  (void)ini.get_or<double>(s, "Axy_aprox_derivatives", 0.05);
+  o.axy_aprox_derivatives =
+      ini.get_or<double>(s, "Axy_aprox_derivatives", o.axy_aprox_derivatives);
+  // Accepted for MRPT compatibility, without effect: rove has no separate
+  // quality measure.
   (void)ini.get_or<bool>(s, "skip_quality_calculation", true);
 
   const auto unread = ini.unread_keys(s);
@@ -150,7 +159,8 @@ struct Matching {
 /// Pairs the source points k·decimation + offset, k in [b, e), appending to
 /// `pairs`; returns how many of them found a pair.
 std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
-                        double c, double s, const Eigen::Vector2d& pivot, double thr,
+                        double c, double s, const Eigen::Vector2d& t,
+                        const Eigen::Vector2d& pivot, double thr,
                         double thr_ang, std::size_t offset, std::size_t decimation,
                         bool only_closest, std::size_t b, std::size_t e,
                         std::vector<Pair2>& pairs, std::vector<Neighbor<double>>& nbrs) {
@@ -159,7 +169,7 @@ std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector
     const std::size_t i = offset + k * decimation;
     const Eigen::Vector2d& p = source[i];
     if (!p.allFinite()) continue;
-    const Eigen::Vector2d q(c * p.x() - s * p.y() + pivot.x(), s * p.x() + c * p.y() + pivot.y());
+    const Eigen::Vector2d q(c * p.x() - s * p.y() + t.x(), s * p.x() + c * p.y() + t.y());
     const double gate = thr_ang * (q - pivot).norm() + thr;
     if (only_closest) {
       // The search is bounded by the gate (inclusive); the gate itself is
@@ -188,7 +198,8 @@ std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector
 /// over a KD-tree (see the header comment for the gate). Pairs come out in
 /// source order.
 void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, const Pose2& T,
-           double thr, double thr_ang, std::size_t offset, std::size_t decimation,
+           const Eigen::Vector2d& pivot, double thr, double thr_ang, std::size_t offset,
+           std::size_t decimation,
            bool only_closest, bool unique, int threads, Matching& out) {
   out.pairs.clear();
   out.sources_with_pair = 0;
@@ -196,12 +207,12 @@ void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, c
   const std::size_t n_sel = offset < n ? (n - offset + decimation - 1) / decimation : 0;
   out.sources_considered = n_sel;
   const double c = std::cos(T.phi()), s = std::sin(T.phi());
-  const Eigen::Vector2d pivot = T.translation();
+  const Eigen::Vector2d t = T.translation();
   if (threads <= 1 || n_sel <= detail::kReduceBlock) {
     // Serial: straight into out.pairs, whose capacity is reused across
     // iterations (no allocation once warm).
     std::vector<Neighbor<double>> nbrs;
-    out.sources_with_pair = match_range(target, source, c, s, pivot, thr, thr_ang, offset,
+    out.sources_with_pair = match_range(target, source, c, s, t, pivot, thr, thr_ang, offset,
                                         decimation, only_closest, 0, n_sel, out.pairs, nbrs);
   } else {
     struct Acc {
@@ -216,7 +227,7 @@ void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, c
     Acc acc = detail::parallel_reduce(n_sel, threads, Acc{},
                                       [&](std::size_t b, std::size_t e, Acc& a) {
       std::vector<Neighbor<double>> nbrs;
-      a.with_pair += match_range(target, source, c, s, pivot, thr, thr_ang, offset, decimation,
+      a.with_pair += match_range(target, source, c, s, t, pivot, thr, thr_ang, offset, decimation,
                                  only_closest, b, e, a.pairs, nbrs);
     });
     out.sources_with_pair = acc.with_pair;
@@ -361,6 +372,116 @@ Pose2 lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d> sour
   });
 }
 
+/// Σ‖R(φ)·s + T − t‖² over a fixed set of pairs for any pose (x, y, φ) in
+/// O(1), from moments about the centroids of both sides (cross terms vanish
+/// there, so nothing large cancels): Σ‖t′‖² + Σ‖s′‖² − 2(c·Σt′·s′ +
+/// s·Σt′×s′) + n‖c_t − R·c_s − T‖². MRPT's squareErrorVector summed.
+struct PairMoments {
+  Eigen::Vector2d cs = Eigen::Vector2d::Zero(), ct = Eigen::Vector2d::Zero();
+  double sq = 0, dot = 0, cross = 0, n = 0;
+
+  PairMoments(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+              const std::vector<Pair2>& pairs) {
+    const auto& tp = target.points();
+    for (const Pair2& pr : pairs) {
+      cs += source[pr.source];
+      ct += tp[pr.target];
+    }
+    n = static_cast<double>(pairs.size());
+    cs /= n;
+    ct /= n;
+    for (const Pair2& pr : pairs) {
+      const Eigen::Vector2d a = source[pr.source] - cs, b = tp[pr.target] - ct;
+      sq += a.squaredNorm() + b.squaredNorm();
+      dot += a.x() * b.x() + a.y() * b.y();
+      cross += a.x() * b.y() - a.y() * b.x();
+    }
+  }
+  double sum_sq_errors(const Pose2& T) const {
+    const double c = std::cos(T.phi()), s = std::sin(T.phi());
+    const Eigen::Vector2d d(ct.x() - (c * cs.x() - s * cs.y()) - T.x(),
+                            ct.y() - (s * cs.x() + c * cs.y()) - T.y());
+    return std::max(0.0, sq - 2 * (c * dot + s * cross)) + n * d.squaredNorm();
+  }
+};
+
+/// The slope at w2 of the parabola through (w1, q1), (w2, q2), (w3, q3):
+/// MRPT's three-point derivative of its LM gradient.
+double parabola_slope(double w1, double w2, double w3, double q1, double q2, double q3) {
+  const double a = (q3 - q2) / ((w3 - w2) * (w3 - w1)) - (q1 - q2) / ((w1 - w2) * (w3 - w1));
+  const double b = ((q1 - q2) + a * (w2 * w2 - w1 * w1)) / (w1 - w2);
+  return 2 * a * w2 + b;
+}
+
+/// One pairing of MRPT's icpLevenbergMarquardt (see IcpAlgorithm): the
+/// gradient J (3 × pairs) of the kernelized squared distances by finite
+/// differences, H = JJᵀ, then damped steps x ← x − (H + λ·diag H)⁻¹·J·e on
+/// the fixed J and e (the squared distances at the pairing's pose).
+Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+                     const std::vector<Pair2>& pairs, Pose2 q, const Icp2dOptions& o) {
+  const double rho2 = o.kernel_rho * o.kernel_rho;
+  const auto kern = [&](double x2) { return o.use_kernel ? x2 / (x2 + rho2) : x2; };
+  // The nearest target point to (x, y) is within `bound` (a pair's partner
+  // is that far from the unshifted point, so at most partner + Axy from a
+  // shifted one): the bounded search prunes more and finds the same point.
+  const auto nearest_sq = [&](double x, double y, double bound) {
+    const auto nn = target.tree().nearest(Eigen::Vector2d(x, y), bound);
+    return nn ? nn->sq_distance : bound * bound;
+  };
+  const double c = std::cos(q.phi()), s = std::sin(q.phi());
+  const double axy = o.axy_aprox_derivatives;
+  const auto& tp = target.points();
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  for (const Pair2& pr : pairs) {
+    const Eigen::Vector2d& p = source[pr.source];
+    const Eigen::Vector2d& t = tp[pr.target];
+    const double x = q.x() + c * p.x() - s * p.y();
+    const double y = q.y() + s * p.x() + c * p.y();
+    const double e = (t.x() - x) * (t.x() - x) + (t.y() - y) * (t.y() - y);
+    // ∂/∂x: distances to the nearest target point at x − Axy, x, x + Axy.
+    // Pairs are nearest-point pairs made at q, so the partner is the nearest
+    // target point to (x, y).
+    const double q2 = kern(pr.sq_dist);
+    const double bound = std::sqrt(pr.sq_dist) + axy + 1e-9;  // + rounding slack
+    const double jx = parabola_slope(x - axy, x, x + axy, kern(nearest_sq(x - axy, y, bound)),
+                                     q2, kern(nearest_sq(x + axy, y, bound)));
+    // ∂/∂y: distances to the pair's own target point (MRPT reuses q2).
+    const double dx2 = (t.x() - x) * (t.x() - x);
+    const double jy = parabola_slope(y - axy, y, y + axy,
+                                     kern(dx2 + (t.y() - y + axy) * (t.y() - y + axy)), q2,
+                                     kern(dx2 + (t.y() - y - axy) * (t.y() - y - axy)));
+    const double jphi = jx * (-s * p.x() - c * p.y()) + jy * (c * p.x() - s * p.y());
+    const Eigen::Vector3d j(jx, jy, jphi);
+    H += j * j.transpose();
+    g += j * e;
+  }
+  const PairMoments moments(target, source, pairs);
+  double ose = moments.sum_sq_errors(q);  // compared with values of the same formula
+  double lambda = o.lm_initial_lambda;
+  constexpr unsigned kMaxSteps = 99;  // MRPT: while (keep && ++n < 100)
+  for (unsigned it = 0; it < kMaxSteps; ++it) {
+    Eigen::Matrix3d C = H;
+    C.diagonal() *= 1 + lambda;
+    const Eigen::Vector3d delta = C.inverse() * g;  // closed-form 3×3 inverse
+    if (!delta.allFinite()) break;
+    const Pose2 q_new(q.x() - delta(0), q.y() - delta(1), q.phi() - delta(2));
+    const double ose_new = moments.sum_sq_errors(q_new);
+    const bool keep = std::abs(delta(0)) > o.min_abs_step_trans ||
+                      std::abs(delta(1)) > o.min_abs_step_trans ||
+                      std::abs(delta(2)) > o.min_abs_step_rot;
+    if (ose_new < ose) {
+      lambda /= 10;
+      q = q_new;
+      ose = ose_new;
+    } else {
+      lambda *= 10;
+    }
+    if (!keep) break;
+  }
+  return q;
+}
+
 }  // namespace
 
 Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
@@ -396,9 +517,15 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
   bool keep_approaching = true;
   bool too_few = false, diverged = false, settled = false;
   Matching m;
+  // MRPT's icpLevenbergMarquardt measures the gate widening from the target
+  // frame's origin; the other methods from the current pose.
+  const bool mrpt_lm = o.algorithm == IcpAlgorithm::LevenbergMarquardt;
   do {
-    match(target, source, pose, thr, thr_ang, offset % std::max<std::size_t>(decimation, 1),
-          decimation, o.only_closest_correspondences, o.only_unique_robust, o.num_threads, m);
+    const Eigen::Vector2d pivot = mrpt_lm ? Eigen::Vector2d::Zero() : pose.translation();
+    // MRPT's LM always pairs each point with its nearest target point.
+    match(target, source, pose, pivot, thr, thr_ang,
+          offset % std::max<std::size_t>(decimation, 1), decimation,
+          mrpt_lm || o.only_closest_correspondences, o.only_unique_robust, o.num_threads, m);
     if (m.pairs.size() < min_pairs) {
       keep_approaching = false;
       too_few = true;
@@ -413,6 +540,8 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
                                     false, o.num_threads);
       const Eigen::Vector3d h = ne.H.ldlt().solve(-ne.g);
       if (h.allFinite()) next = apply_step(pose, h);
+    } else if (mrpt_lm) {
+      next = mrpt_lm_update(target, source, m.pairs, pose, o);
     } else {
       next = lm_update(target, source, m.pairs, pose, o);
     }

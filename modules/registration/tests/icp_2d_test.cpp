@@ -101,8 +101,10 @@ TEST(Icp2d, EveryVariantRecoversANoisyScan) {
   IcpTarget2DOptions topt;
   topt.normal_neighbors = 5;
   const IcpTarget2D target(map, topt);
-  for (auto algo : {IcpAlgorithm::Classic, IcpAlgorithm::LevenbergMarquardt}) {
+  for (auto algo : {IcpAlgorithm::Classic, IcpAlgorithm::LevenbergMarquardt,
+                    IcpAlgorithm::RobustLevenbergMarquardt}) {
     for (auto metric : {Icp2dMetric::PointToPoint, Icp2dMetric::PointToLine}) {
+      if (algo == IcpAlgorithm::LevenbergMarquardt && metric == Icp2dMetric::PointToLine) continue;
       auto o = accurate_options();
       o.algorithm = algo;
       o.metric = metric;
@@ -172,7 +174,7 @@ TEST(Icp2d, ParallelEqualsSerial) {
   IcpTarget2DOptions topt;
   topt.normal_neighbors = 5;
   const IcpTarget2D target(map, topt);
-  for (auto algo : {IcpAlgorithm::Classic, IcpAlgorithm::LevenbergMarquardt}) {
+  for (auto algo : {IcpAlgorithm::Classic, IcpAlgorithm::RobustLevenbergMarquardt}) {
     auto o = accurate_options();
     o.algorithm = algo;
     o.metric = Icp2dMetric::PointToLine;
@@ -262,6 +264,26 @@ TEST(Icp2dOptions, UnknownAndMalformedKeysAreReported) {
   EXPECT_EQ(icp_2d_options_from_ini(IniFile::parse("[ICP]\nrobust_kernel = huber:0.1\n"), "ICP")
                 .robust_kernel->type(),
             RobustKernelType::Huber);
+}
+
+TEST(Icp2dOptions, LevenbergMarquardtFlavoursAndTheirKeys) {
+  const IniFile ini = IniFile::parse(
+      "[A]\nICP_algorithm = icpRobustLevenbergMarquardt\n"
+      "[B]\nICP_algorithm = icpLevenbergMarquardt\nAxy_aprox_derivatives = 0.02\n"
+      "[C]\nICP_algorithm = icpLevenbergMarquardt\nmetric = point_to_line\n",
+      "t.ini");
+  EXPECT_EQ(icp_2d_options_from_ini(ini, "A").algorithm, IcpAlgorithm::RobustLevenbergMarquardt);
+  const auto b = icp_2d_options_from_ini(ini, "B");
+  EXPECT_EQ(b.algorithm, IcpAlgorithm::LevenbergMarquardt);
+  EXPECT_DOUBLE_EQ(b.axy_aprox_derivatives, 0.02);
+  // MRPT's LM is point-to-point only: said by name, not silently changed.
+  try {
+    (void)icp_2d_options_from_ini(ini, "C");
+    FAIL() << "point-to-line with MRPT's LM was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("icpRobustLevenbergMarquardt"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

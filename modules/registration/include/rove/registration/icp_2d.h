@@ -58,8 +58,22 @@ namespace rove {
 
 /// Which ICP loop runs (MRPT's ICP_algorithm).
 enum class IcpAlgorithm {
-  Classic,             ///< icpClassic: closed form (or one GN step) per pairing
-  LevenbergMarquardt,  ///< icpLevenbergMarquardt: robust damped GN per pairing
+  /// icpClassic: closed form (or one GN step) per pairing.
+  Classic,
+  /// icpLevenbergMarquardt, as MRPT computes it: point-to-point only; per
+  /// pairing, the gradient of the kernelized squared distances by finite
+  /// differences of step Axy_aprox_derivatives (the x part from nearest-map-
+  /// point distances), then damped steps on the fixed gradient with λ ÷ 10
+  /// on a lower sum of squared distances and λ × 10 otherwise, until the
+  /// step is below minAbsStep (at most 99 steps). The pairing gate widens
+  /// with the distance from the target frame's origin (MRPT's pivot for this
+  /// method), not from the current pose.
+  LevenbergMarquardt,
+  /// (icpRobustLevenbergMarquardt; rove) Levenberg–Marquardt on ½Σρ(r²) of
+  /// the pairs with an analytic Jacobian, Nielsen's damping update and the
+  /// kernel of use_kernel/kernel_rho or robust_kernel; point-to-point or
+  /// point-to-line; gate widening from the current pose as icpClassic.
+  RobustLevenbergMarquardt,
 };
 
 /// The error metric of a pair.
@@ -78,7 +92,8 @@ enum class IcpCovarianceMethod {
 
 /// Options of icp_2d (MRPT's [ICP] section; key names in parentheses).
 struct Icp2dOptions {
-  /// (ICP_algorithm: icpClassic | icpLevenbergMarquardt, or 0 | 1). Default Classic.
+  /// (ICP_algorithm: icpClassic | icpLevenbergMarquardt |
+  /// icpRobustLevenbergMarquardt, or 0 | 1 | 2). Default Classic.
   IcpAlgorithm algorithm = IcpAlgorithm::Classic;
   /// (metric: point_to_point | point_to_line; rove). Default PointToPoint.
   Icp2dMetric metric = Icp2dMetric::PointToPoint;
@@ -113,19 +128,24 @@ struct Icp2dOptions {
   double covariance_var_points = 0.02 * 0.02;
   /// (skip_cov_calculation) report a zero covariance. Default false.
   bool skip_cov_calculation = false;
-  /// (use_kernel, kernel_rho) LM only: the Cauchy kernel of scale
-  /// kernel_rho (meters) when true, plain least squares when false
-  /// (MRPT's K(x²) = x²/(x²+ρ²) is the Cauchy family). Default true, 0.07.
+  /// (use_kernel, kernel_rho) LM only. MRPT's method: the squared distances
+  /// are kernelized as K(x²) = x²/(x²+ρ²) in its gradient when true. Robust
+  /// LM: the Cauchy kernel of scale kernel_rho (meters) when true (the same
+  /// family), plain least squares when false. Default true, 0.07.
   bool use_kernel = true;
   double kernel_rho = 0.07;
   /// (robust_kernel; rove) overrides use_kernel/kernel_rho when set, e.g.
   /// "huber:0.05" (parameter in meters).
   std::optional<RobustKernel> robust_kernel;
-  /// (LM_initial_lambda) LM only: initial damping relative to the largest
-  /// diagonal entry of the Hessian, > 0. Default 1e-4.
+  /// (LM_initial_lambda) LM only, > 0. Default 1e-4. MRPT's method: the
+  /// initial λ of each pairing (diagonal × (1 + λ)); robust LM: the initial
+  /// damping relative to the largest diagonal entry of the Hessian.
   double lm_initial_lambda = 1e-4;
-  /// (LM_inner_iterations; rove) LM only: damped steps per pairing, ≥ 1.
-  /// Default 5.
+  /// (Axy_aprox_derivatives) MRPT's LM only: the finite-difference step of
+  /// its gradient, meters, > 0. Default 0.05.
+  double axy_aprox_derivatives = 0.05;
+  /// (LM_inner_iterations; rove) robust LM only: damped steps per pairing,
+  /// ≥ 1. Default 5.
   unsigned lm_inner_iterations = 5;
   /// (doRANSAC) after convergence, run ransac_rigid_2d on the final pairs
   /// and return its sum of Gaussians in Icp2dResult::sog. Default false.
@@ -152,7 +172,7 @@ struct Icp2dOptions {
 
 /// Reads an [ICP] section of an MRPT-style INI file. Keys that are absent
 /// keep their defaults; MRPT's keys that rove accepts without using them
-/// (Axy_aprox_derivatives, skip_quality_calculation) are read and ignored.
+/// (skip_quality_calculation) are read and ignored.
 /// Keys of the section that are not ICP options are returned in
 /// `unknown_keys` when it is not null, and are a ConfigError (naming the
 /// file, section and key) when it is null. Malformed values are a
