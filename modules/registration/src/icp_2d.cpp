@@ -421,12 +421,13 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
                      const std::vector<Pair2>& pairs, Pose2 q, const Icp2dOptions& o) {
   const double rho2 = o.kernel_rho * o.kernel_rho;
   const auto kern = [&](double x2) { return o.use_kernel ? x2 / (x2 + rho2) : x2; };
-  // The nearest target point to (x, y) is within `bound` (a pair's partner
-  // is that far from the unshifted point, so at most partner + Axy from a
-  // shifted one): the bounded search prunes more and finds the same point.
-  const auto nearest_sq = [&](double x, double y, double bound) {
-    const auto nn = target.tree().nearest(Eigen::Vector2d(x, y), bound);
-    return nn ? nn->sq_distance : bound * bound;
+  // The nearest target point to a shifted point is at most as far as the
+  // pair's partner is from it: the search bounded by that distance prunes
+  // more and finds the same point (or the partner).
+  const auto nearest_sq = [&](double x, double y, const Eigen::Vector2d& partner) {
+    const double d2 = (partner.x() - x) * (partner.x() - x) + (partner.y() - y) * (partner.y() - y);
+    const auto nn = target.tree().nearest(Eigen::Vector2d(x, y), std::sqrt(d2) * (1 + 1e-12));
+    return nn ? std::min(nn->sq_distance, d2) : d2;
   };
   const double c = std::cos(q.phi()), s = std::sin(q.phi());
   const double axy = o.axy_aprox_derivatives;
@@ -443,9 +444,8 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
     // Pairs are nearest-point pairs made at q, so the partner is the nearest
     // target point to (x, y).
     const double q2 = kern(pr.sq_dist);
-    const double bound = std::sqrt(pr.sq_dist) + axy + 1e-9;  // + rounding slack
-    const double jx = parabola_slope(x - axy, x, x + axy, kern(nearest_sq(x - axy, y, bound)),
-                                     q2, kern(nearest_sq(x + axy, y, bound)));
+    const double jx = parabola_slope(x - axy, x, x + axy, kern(nearest_sq(x - axy, y, t)), q2,
+                                     kern(nearest_sq(x + axy, y, t)));
     // ∂/∂y: distances to the pair's own target point (MRPT reuses q2).
     const double dx2 = (t.x() - x) * (t.x() - x);
     const double jy = parabola_slope(y - axy, y, y + axy,

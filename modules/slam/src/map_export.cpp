@@ -1,6 +1,7 @@
 #include "rove/slam/map_export.h"
 
 #include <png.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -41,8 +42,11 @@ void write_png(const std::string& path, int width, int height, int channels,
   // deflate level. Files grow (demo points.png 76 kB instead of 31 kB) but
   // libpng's per-row filter search was half of the whole `rove icp-slam`
   // run on the demo (callgrind); now it is a few percent.
+  // Run-length deflate (Z_RLE) finds the long runs of background in a
+  // fraction of the time of a match search.
   png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
   png_set_compression_level(png, 1);
+  png_set_compression_strategy(png, Z_RLE);
   png_write_info(png, info);
   const std::size_t stride = static_cast<std::size_t>(width) * static_cast<std::size_t>(channels);
   for (int y = 0; y < height; ++y) {
