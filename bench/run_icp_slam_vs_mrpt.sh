@@ -46,8 +46,11 @@ for variant in classic LM; do
   # Path agreement: rove's path.tum (t x y z qx qy qz qw) against MRPT's log_estimated_path.txt.
   agreement=$(paste <(grep -v '^#' "$work/rove_$variant/path.tum") "$work/mrpt_$variant/log_estimated_path.txt" | awk '
     { dx = $2 - $10; dy = $3 - $11; s += dx*dx + dy*dy; n++; ex = dx; ey = dy;
-      phi = 2 * atan2($7, $8); d = phi - $12; while (d > 3.14159265) d -= 6.28318531; while (d < -3.14159265) d += 6.28318531; ea = d }
-    END { printf "position RMSE %.4f m over %d steps; final pose differs by %.4f m, %.3f deg", sqrt(s/n), n, sqrt(ex*ex+ey*ey), ea*57.29578 }')
+      phi = 2 * atan2($7, $8); d = phi - $12; while (d > 3.14159265) d -= 6.28318531; while (d < -3.14159265) d += 6.28318531; ea = d;
+      p = sqrt(dx*dx + dy*dy); a = (d < 0 ? -d : d) * 57.29578;
+      if (p > mp) mp = p; if (a > ma) ma = a; if (p > 0.05) n5++; if (a > 1) n1++ }
+    END { printf "position RMSE %.4f m over %d steps; final pose differs by %.4f m, %.3f deg\n", sqrt(s/n), n, sqrt(ex*ex+ey*ey), ea*57.29578;
+          printf "  largest step difference %.4f m, %.3f deg; steps beyond 5 cm: %d, beyond 1 deg: %d", mp, ma, n5 + 0, n1 + 0 }')
   echo "== $variant (median of $runs runs) =="
   printf "  mapping loop : MRPT %.3f s   rove %.3f s   speed-up %.1fx\n" "$ml" "$rl" "$(echo "$ml / $rl" | bc -l)"
   printf "  whole process: MRPT %.3f s   rove %.3f s   speed-up %.1fx\n" "$mw" "$rw" "$(echo "$mw / $rw" | bc -l)"
