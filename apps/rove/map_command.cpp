@@ -216,7 +216,9 @@ void add_map_command(CLI::App& app) {
   build->add_option("CONFIG", args->config, "MRPT-style config file declaring a multi-metric map")
       ->required()
       ->check(CLI::ExistingFile);
-  build->add_option("INPUT", args->input, "MRPT rawlog or simplemap (plain or gzip)")
+  build->add_option("INPUT", args->input,
+                    "MRPT simplemap, or a rawlog: MRPT or rove rawlog (plain or gzip), CARMEN log "
+                    "(plain or bzip2)")
       ->required()
       ->check(CLI::ExistingFile);
   build->add_option("-o,--out", args->out_dir, "output directory (created)")->required();

@@ -5,9 +5,9 @@
 #include <variant>
 
 #include "rove/obs/action_collection.h"
+#include "rove/obs/any_rawlog.h"
 #include "rove/obs/mrpt_simplemap.h"
 #include "rove/obs/odometry_observation.h"
-#include "rove/obs/rawlog_reader.h"
 #include "rove/obs/robot_movement_2d.h"
 
 namespace rove {
@@ -43,7 +43,7 @@ MapBuildResult build_map(const std::string& path, MetricMap& map, const MapBuild
       if (options.on_progress) options.on_progress(r.keyframes);
     }
   } else {
-    RawlogReader reader(path);
+    AnyRawlogReader reader(path);  // MRPT or rove rawlog, or CARMEN log
     Pose3 T;
     std::optional<Pose2> first_odometry;
     while (auto entry = reader.next()) {

@@ -10,6 +10,7 @@
 #include "rove/core/ini.h"
 #include "rove/maps/beacon_map.h"
 #include "rove/maps/landmark_map.h"
+#include "rove/maps/metric_map_points.h"
 #include "rove/maps/multi_metric_map.h"
 #include "rove/obs/rawlog_reader.h"
 
@@ -110,6 +111,39 @@ TEST(MapBuild, KfSlamLandmarksAtGroundTruthPath) {
   }
   EXPECT_EQ(matched, map.landmarks().size());
   EXPECT_GE(map.landmarks().size(), 10u);
+}
+
+// A CARMEN log is read as a layout #1 rawlog: the first scan at the origin,
+// each later one at the odometry increment composed on (laser lines carry
+// the odometry); three rays at −90°, 0°, +90°.
+TEST(MapBuild, CarmenLogPointsAtOdometryPoses) {
+  const auto dir = std::filesystem::temp_directory_path() / "rove_map_build_carmen";
+  std::filesystem::create_directories(dir);
+  const std::string log = (dir / "two_scans.clf").string();
+  {
+    std::ofstream f(log);
+    f << "# two scans\n"
+         "FLASER 3 1 2 3 5 5 0 5 5 0 0.0 host 0.0\n"
+         "FLASER 3 1 1 1 6 5 1.5707963267948966 6 5 1.5707963267948966 0.5 host 0.5\n";
+  }
+  const IniFile ini = IniFile::parse(
+      "[Map]\npointsMap_count = 1\n"
+      "[Map_pointsMap_00_insertOpts]\nminDistBetweenLaserPoints = 0\nisPlanarMap = 1\n",
+      "t.ini");
+  MultiMetricMap mm = MultiMetricMap::from_config(ini, "Map");
+  const MapBuildResult r = build_map(log, mm);
+  EXPECT_EQ(r.input, MapInputKind::kRawlog);
+  EXPECT_EQ(r.keyframes, 2u);
+  EXPECT_EQ(r.odometry_steps, 1u);
+  const auto& cloud = dynamic_cast<const PointsMetricMap&>(*mm.entries()[0].map).points().cloud();
+  const std::vector<Eigen::Vector2d> expected = {{0, -1}, {2, 0}, {0, 3},  // at the origin
+                                                 {2, 0}, {1, 1}, {0, 0}};  // at (1, 0, 90°)
+  ASSERT_EQ(cloud.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_NEAR(cloud[i].x(), expected[i].x(), 1e-5) << "point " << i;
+    EXPECT_NEAR(cloud[i].y(), expected[i].y(), 1e-5) << "point " << i;
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -5,7 +5,8 @@
 /// the robot pose the dataset gives for it.
 ///
 /// - A simplemap gives each keyframe's pose (its PDF's mean).
-/// - A rawlog gives no poses; they come from odometry. Layout #1: the
+/// - A rawlog (MRPT or rove rawlog, or a CARMEN log read as layout #1)
+///   gives no poses; they come from odometry. Layout #1: the
 ///   robot starts at the identity and each action collection's first
 ///   RobotMovement2D mean is composed onto the pose (T ← T ⊕ Δ); the
 ///   following sensory frame is inserted at the result. Layout #2: the
@@ -24,7 +25,7 @@ namespace rove {
 
 /// Where a build takes its input from.
 enum class MapInputKind : std::uint8_t {
-  kRawlog = 0,     ///< MRPT rawlog, poses from odometry
+  kRawlog = 0,     ///< MRPT/rove rawlog or CARMEN log, poses from odometry
   kSimpleMap = 1,  ///< MRPT simplemap, poses stored
 };
 
