@@ -1,11 +1,11 @@
 #include "rove/maps/kdtree.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
-
-#include <nanoflann.hpp>
 
 #include "rove/core/check.h"
 
@@ -13,132 +13,313 @@ namespace rove {
 
 namespace {
 
-/// nanoflann's dataset interface over a contiguous array of points. The
-/// pointer is updated after the points are reordered into tree order.
-template <int Dim, typename Scalar>
-struct ContiguousPoints {
-  const Eigen::Matrix<Scalar, Dim, 1>* data = nullptr;
-  std::size_t count = 0;
-  std::size_t kdtree_get_point_count() const { return count; }
-  Scalar kdtree_get_pt(std::uint32_t idx, std::size_t dim) const { return data[idx][static_cast<Eigen::Index>(dim)]; }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const {
-    return false;
-  }
-};
+constexpr std::uint32_t kNotIndexed = std::numeric_limits<std::uint32_t>::max();
 
-/// Squared L2 distance with the dimension known at compile time, reading a
-/// point's coordinates together.
-template <int Dim, typename Scalar>
-struct L2Fixed {
-  using ElementType = Scalar;
-  using DistanceType = Scalar;
-  const ContiguousPoints<Dim, Scalar>& source;
-  explicit L2Fixed(const ContiguousPoints<Dim, Scalar>& s) : source(s) {}
-  Scalar evalMetric(const Scalar* a, std::uint32_t b_idx, std::size_t) const {
-    const auto& b = source.data[b_idx];
-    Scalar d = 0;
-    for (int i = 0; i < Dim; ++i) {
-      const Scalar diff = a[i] - b[i];
-      d += diff * diff;
-    }
-    return d;
-  }
-  template <typename U, typename V>
-  Scalar accum_dist(const U a, const V b, std::size_t) const {
-    return (a - b) * (a - b);
-  }
-};
-
-template <typename Scalar>
-bool finite_point(const Scalar* p, int dim) {
-  for (int i = 0; i < dim; ++i)
+template <typename Scalar, int Dim>
+bool finite_point(const Scalar* p) {
+  for (int i = 0; i < Dim; ++i)
     if (!std::isfinite(p[i])) return false;
   return true;
 }
 
-/// A result set for nearest-within-radius: keeps the single best point. The
-/// bound starts one ulp above max_distance², because nanoflann admits a
-/// point only when its distance is strictly below worstDist(); dist < next(r²)
-/// is dist <= r² exactly.
-template <typename Scalar>
-struct NearestWithin {
-  using DistanceType = Scalar;
-  using IndexType = std::uint32_t;
-  Scalar worst;
-  std::uint32_t index = 0;
-  bool found = false;
-  std::size_t size() const { return found ? 1 : 0; }
-  bool full() const { return true; }
-  bool addPoint(Scalar dist, std::uint32_t idx) {
-    // nanoflann reads worstDist() once per leaf, so check again here.
-    if (dist < worst) {
-      worst = dist;
-      index = idx;
-      found = true;
-    }
-    return true;
-  }
-  Scalar worstDist() const { return worst; }
+/// Axis-aligned bounding box of a range of points.
+template <int Dim, typename Scalar>
+struct Box {
+  std::array<Scalar, Dim> lo;
+  std::array<Scalar, Dim> hi;
 };
+
+/// One tree node, stored in depth-first order so that an inner node's left
+/// child follows it. A leaf holds the tree positions [first, last) with
+/// first < last. An inner node holds the position of its right child in
+/// `first` and the split dimension in `last` (< Dim), so last < first tells
+/// the two apart (the right child of any node is at position >= 2). `low` is
+/// the largest coordinate along the split dimension in the left child, `high`
+/// the smallest in the right child (low <= high).
+template <typename Scalar>
+struct Node {
+  std::uint32_t first;
+  std::uint32_t last;
+  Scalar low;
+  Scalar high;
+  bool is_leaf() const { return first < last; }
+};
+
+/// Squared Euclidean distance, summed over d in order (as the brute force the
+/// tests compare against).
+template <int Dim, typename Scalar>
+Scalar sq_distance(const Scalar* a, const Scalar* b) {
+  Scalar s = 0;
+  for (int d = 0; d < Dim; ++d) {
+    const Scalar diff = a[d] - b[d];
+    s += diff * diff;
+  }
+  return s;
+}
+
+/// Keeps the single nearest point strictly closer than `worst`.
+template <typename Scalar>
+struct NearestSet {
+  Scalar worst;
+  std::uint32_t position = kNotIndexed;
+  Scalar bound() const { return worst; }
+  void add(Scalar d, std::uint32_t pos) {
+    worst = d;
+    position = pos;
+  }
+};
+
+/// Keeps the k nearest points in `out` (source indices), sorted nearest
+/// first; points at the distance of the current k-th are not admitted.
+template <typename Scalar>
+struct KnnSet {
+  Neighbor<Scalar>* out;
+  std::size_t k;
+  const std::uint32_t* source_of;
+  std::size_t count = 0;
+  Scalar worst = std::numeric_limits<Scalar>::infinity();
+  Scalar bound() const { return worst; }
+  void add(Scalar d, std::uint32_t pos) {
+    std::size_t i = count < k ? count++ : k - 1;
+    while (i > 0 && out[i - 1].sq_distance > d) {
+      out[i] = out[i - 1];
+      --i;
+    }
+    out[i] = Neighbor<Scalar>{source_of[pos], d};
+    if (count == k) worst = out[k - 1].sq_distance;
+  }
+};
+
+/// Collects every point with distance < bound (source indices).
+template <typename Scalar>
+struct RadiusSet {
+  std::vector<Neighbor<Scalar>>& out;
+  const std::uint32_t* source_of;
+  Scalar worst;
+  Scalar bound() const { return worst; }
+  void add(Scalar d, std::uint32_t pos) { out.push_back(Neighbor<Scalar>{source_of[pos], d}); }
+};
+
+/// Sorts neighbors by distance, then index. For float, a Neighbor is two
+/// 32-bit words, {index, sq_distance}; a non-negative float orders as its bit
+/// pattern, so (sq_distance bits << 32 | index) is the sort key.
+template <typename Scalar>
+void sort_neighbors(std::vector<Neighbor<Scalar>>& v) {
+  if constexpr (std::is_same_v<Scalar, float> && sizeof(Neighbor<float>) == 8) {
+    const auto key = [](const Neighbor<float>& n) {
+      std::uint32_t bits;
+      std::memcpy(&bits, &n.sq_distance, sizeof bits);
+      return (static_cast<std::uint64_t>(bits) << 32) | n.index;
+    };
+    std::sort(v.begin(), v.end(), [&](const Neighbor<float>& a, const Neighbor<float>& b) { return key(a) < key(b); });
+  } else {
+    std::sort(v.begin(), v.end(), [](const Neighbor<Scalar>& a, const Neighbor<Scalar>& b) {
+      return a.sq_distance < b.sq_distance || (a.sq_distance == b.sq_distance && a.index < b.index);
+    });
+  }
+}
 
 }  // namespace
 
 template <int Dim, typename Scalar>
 struct KdTree<Dim, Scalar>::Impl {
-  using Index = nanoflann::KDTreeSingleIndexAdaptor<L2Fixed<Dim, Scalar>, ContiguousPoints<Dim, Scalar>,
-                                                    Dim, std::uint32_t>;
+  using BoxT = Box<Dim, Scalar>;
+  using NodeT = Node<Scalar>;
+
   KdTreeOptions options;
   std::size_t source_size = 0;
-  std::vector<Point> points;              // indexed points, tree order
-  std::vector<std::uint32_t> source_of;   // tree position -> source index
-  std::vector<std::uint32_t> position_of; // source index -> tree position (or npos)
-  ContiguousPoints<Dim, Scalar> adaptor;
-  std::unique_ptr<Index> index;
+  std::vector<Point> points;               // indexed points, tree order
+  std::vector<std::uint32_t> source_of;    // tree position -> source index
+  std::vector<std::uint32_t> position_of;  // source index -> tree position (or kNotIndexed)
+  std::vector<NodeT> nodes;                // depth-first; nodes[0] is the root
+  BoxT box{};                              // bounding box of all points
+
+  BoxT bounds(std::uint32_t first, std::uint32_t last) const {
+    BoxT b;
+    for (int d = 0; d < Dim; ++d) b.lo[d] = b.hi[d] = points[first][d];
+    for (std::uint32_t i = first + 1; i < last; ++i)
+      for (int d = 0; d < Dim; ++d) {
+        const Scalar v = points[i][d];
+        b.lo[d] = std::min(b.lo[d], v);
+        b.hi[d] = std::max(b.hi[d], v);
+      }
+    return b;
+  }
+
+  void swap_points(std::uint32_t a, std::uint32_t b) {
+    std::swap(points[a], points[b]);
+    std::swap(source_of[a], source_of[b]);
+  }
+
+  /// Moves the points of [first, last) with coordinate d below `split` (or
+  /// not above it, when kOrEqual) to the front; returns where they end.
+  template <bool kOrEqual>
+  std::uint32_t partition(std::uint32_t first, std::uint32_t last, int d, Scalar split) {
+    std::uint32_t lo = first;
+    std::uint32_t hi = last;
+    const auto left = [&](std::uint32_t i) {
+      if constexpr (kOrEqual) return points[i][d] <= split;
+      else return points[i][d] < split;
+    };
+    for (;;) {
+      while (lo < hi && left(lo)) ++lo;
+      while (lo < hi && !left(hi - 1)) --hi;
+      if (lo >= hi) return lo;
+      swap_points(lo, hi - 1);
+      ++lo;
+      --hi;
+    }
+  }
+
+  /// Builds the subtree over the points [first, last) (non-empty) of the
+  /// cell `cell`; returns the bounding box of those points in `tight`.
+  void build(std::uint32_t first, std::uint32_t last, const BoxT& cell, BoxT& tight) {
+    const auto self = static_cast<std::uint32_t>(nodes.size());
+    nodes.push_back(NodeT{first, last, 0, 0});
+    tight = bounds(first, last);
+    const std::uint32_t count = last - first;
+    if (count <= options.leaf_size) return;
+
+    // Split the cell in the middle of its widest side (of the near-widest
+    // sides, the one along which the points spread most), sliding the split
+    // onto the points when it misses them. lim1/lim2 then place the points
+    // equal to the split value so that the halves are as even as the data
+    // allow; neither is empty.
+    Scalar max_span = cell.hi[0] - cell.lo[0];
+    for (int d = 1; d < Dim; ++d) max_span = std::max(max_span, cell.hi[d] - cell.lo[d]);
+    int dim = 0;
+    Scalar max_spread = -1;
+    for (int d = 0; d < Dim; ++d) {
+      if (cell.hi[d] - cell.lo[d] >= (1 - Scalar(1e-5)) * max_span && tight.hi[d] - tight.lo[d] > max_spread) {
+        dim = d;
+        max_spread = tight.hi[d] - tight.lo[d];
+      }
+    }
+    const Scalar split =
+        std::clamp(cell.lo[dim] * Scalar(0.5) + cell.hi[dim] * Scalar(0.5), tight.lo[dim], tight.hi[dim]);
+    const std::uint32_t lim1 = partition<false>(first, last, dim, split) - first;
+    const std::uint32_t lim2 = partition<true>(first + lim1, last, dim, split) - first;
+    const std::uint32_t half = count / 2;
+    const std::uint32_t cut = first + (lim1 > half ? lim1 : lim2 < half ? lim2 : half);
+
+    BoxT left_cell = cell;
+    left_cell.hi[dim] = split;
+    BoxT right_cell = cell;
+    right_cell.lo[dim] = split;
+    BoxT left_tight;
+    BoxT right_tight;
+    build(first, cut, left_cell, left_tight);
+    const auto right = static_cast<std::uint32_t>(nodes.size());
+    build(cut, last, right_cell, right_tight);
+    nodes[self] = NodeT{right, static_cast<std::uint32_t>(dim), left_tight.hi[dim], right_tight.lo[dim]};
+  }
+
+  /// Lower bound on the squared distance from q to `box`, per dimension in
+  /// `dists`, summed in the return value.
+  Scalar initial_distances(const Scalar* q, std::array<Scalar, Dim>& dists) const {
+    Scalar sum = 0;
+    for (int d = 0; d < Dim; ++d) {
+      Scalar e = 0;
+      if (q[d] < box.lo[d]) e = (q[d] - box.lo[d]) * (q[d] - box.lo[d]);
+      if (q[d] > box.hi[d]) e = (q[d] - box.hi[d]) * (q[d] - box.hi[d]);
+      dists[d] = e;
+      sum += e;
+    }
+    return sum;
+  }
+
+  /// Depth-first search below node `n`. `min_sq` is a lower bound on the
+  /// squared distance from q to the node's region, and dists[d] its part
+  /// along dimension d, updated incrementally as the search crosses split
+  /// planes (Arya and Mount, "Algorithms for fast vector quantization",
+  /// DCC 1993, section 3).
+  template <class Set>
+  void search(std::uint32_t n, const Scalar* q, Scalar min_sq, std::array<Scalar, Dim>& dists, Set& set) const {
+    const NodeT& node = nodes[n];
+    if (node.is_leaf()) {
+      for (std::uint32_t i = node.first; i < node.last; ++i) {
+        const Scalar d = sq_distance<Dim, Scalar>(q, points[i].data());
+        if (d < set.bound()) set.add(d, i);
+      }
+      return;
+    }
+    const int dim = static_cast<int>(node.last);
+    const Scalar v = q[dim];
+    const Scalar to_low = v - node.low;
+    const Scalar to_high = v - node.high;
+    std::uint32_t near_child;
+    std::uint32_t far_child;
+    Scalar cut;
+    if (to_low + to_high < 0) {
+      near_child = n + 1;
+      far_child = node.first;
+      cut = to_high * to_high;
+    } else {
+      near_child = node.first;
+      far_child = n + 1;
+      cut = to_low * to_low;
+    }
+    search(near_child, q, min_sq, dists, set);
+    const Scalar saved = dists[dim];
+    min_sq = min_sq + cut - saved;
+    if (min_sq <= set.bound()) {
+      dists[dim] = cut;
+      search(far_child, q, min_sq, dists, set);
+      dists[dim] = saved;
+    }
+  }
+
+  template <class Set>
+  void run(const Scalar* q, Set& set) const {
+    std::array<Scalar, Dim> dists;
+    const Scalar min_sq = initial_distances(q, dists);
+    search(0, q, min_sq, dists, set);
+  }
 };
 
 template <int Dim, typename Scalar>
-KdTree<Dim, Scalar>::KdTree() : KdTree(std::vector<Point>{}, KdTreeOptions{}) {}
+KdTree<Dim, Scalar>::KdTree() : KdTree(FinitePoints{}, KdTreeOptions{}) {}
 
 template <int Dim, typename Scalar>
 KdTree<Dim, Scalar>::KdTree(std::vector<Point> points, const KdTreeOptions& options)
-    : impl_(std::make_unique<Impl>()) {
+    : KdTree(
+          [&] {
+            FinitePoints f;
+            f.source_size = points.size();
+            if (f.source_size >= std::size_t{kNotIndexed}) return f;  // rejected below
+            f.source_index.resize(points.size());
+            std::size_t w = 0;
+            for (std::size_t i = 0; i < points.size(); ++i) {
+              if (!finite_point<Scalar, Dim>(points[i].data())) continue;
+              points[w] = points[i];
+              f.source_index[w] = static_cast<std::uint32_t>(i);
+              ++w;
+            }
+            points.resize(w);
+            f.source_index.resize(w);
+            f.points = std::move(points);
+            return f;
+          }(),
+          options) {}
+
+template <int Dim, typename Scalar>
+KdTree<Dim, Scalar>::KdTree(FinitePoints finite, const KdTreeOptions& options) : impl_(std::make_unique<Impl>()) {
   ROVE_CHECK_GE(options.leaf_size, std::size_t{1});
-  ROVE_CHECK_LT(points.size(), static_cast<std::size_t>(std::numeric_limits<std::uint32_t>::max()));
+  ROVE_CHECK_LT(finite.source_size, static_cast<std::size_t>(kNotIndexed));
   Impl& m = *impl_;
   m.options = options;
-  m.source_size = points.size();
-
-  // Drop non-finite points, remembering each kept point's source index.
-  std::vector<std::uint32_t> kept_source;
-  kept_source.reserve(points.size());
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (!finite_point(points[i].data(), Dim)) continue;
-    points[w++] = points[i];
-    kept_source.push_back(static_cast<std::uint32_t>(i));
+  m.source_size = finite.source_size;
+  m.points = std::move(finite.points);
+  m.source_of = std::move(finite.source_index);
+  const auto n = static_cast<std::uint32_t>(m.points.size());
+  if (n > 0) {
+    // Partition the copy in place into tree order: every leaf then covers a
+    // consecutive range of `points` and of `source_of`.
+    m.nodes.reserve(2 * (n / std::max<std::size_t>(1, options.leaf_size / 2) + 1));
+    m.build(0, n, m.bounds(0, n), m.box);
   }
-  points.resize(w);
-
-  m.adaptor.data = points.data();
-  m.adaptor.count = points.size();
-  m.index = std::make_unique<typename Impl::Index>(
-      Dim, m.adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(options.leaf_size));
-
-  // Store the points in tree order: leaf k then covers a consecutive range,
-  // and nanoflann's permutation becomes the identity.
-  auto& perm = m.index->vAcc;
-  m.points.resize(points.size());
-  m.source_of.resize(points.size());
-  for (std::size_t i = 0; i < perm.size(); ++i) {
-    m.points[i] = points[perm[i]];
-    m.source_of[i] = kept_source[perm[i]];
-    perm[i] = static_cast<std::uint32_t>(i);
-  }
-  m.adaptor.data = m.points.data();
-  m.position_of.assign(m.source_size, std::numeric_limits<std::uint32_t>::max());
-  for (std::size_t i = 0; i < m.source_of.size(); ++i)
-    m.position_of[m.source_of[i]] = static_cast<std::uint32_t>(i);
+  m.position_of.assign(m.source_size, kNotIndexed);
+  for (std::uint32_t i = 0; i < n; ++i) m.position_of[m.source_of[i]] = i;
 }
 
 template <int Dim, typename Scalar>
@@ -168,58 +349,46 @@ template <int Dim, typename Scalar>
 typename KdTree<Dim, Scalar>::Point KdTree<Dim, Scalar>::indexed_point(std::uint32_t source_index) const {
   ROVE_CHECK_LT(static_cast<std::size_t>(source_index), source_size());
   const std::uint32_t pos = impl_->position_of[source_index];
-  ROVE_CHECK_MSG(pos != std::numeric_limits<std::uint32_t>::max(),
-                 "point {} is not indexed (non-finite coordinates)", source_index);
+  ROVE_CHECK_MSG(pos != kNotIndexed, "point {} is not indexed (non-finite coordinates)", source_index);
   return impl_->points[pos];
 }
 
 template <int Dim, typename Scalar>
 std::optional<Neighbor<Scalar>> KdTree<Dim, Scalar>::nearest(const Point& q) const {
-  if (empty() || !finite_point(q.data(), Dim)) return std::nullopt;
-  std::uint32_t pos = 0;
-  Scalar d2 = 0;
-  nanoflann::KNNResultSet<Scalar, std::uint32_t, std::size_t> rs(1);
-  rs.init(&pos, &d2);
-  impl_->index->findNeighbors(rs, q.data(), nanoflann::SearchParams());
-  if (rs.size() == 0) return std::nullopt;
-  return Result{impl_->source_of[pos], d2};
+  if (empty() || !finite_point<Scalar, Dim>(q.data())) return std::nullopt;
+  NearestSet<Scalar> set{std::numeric_limits<Scalar>::infinity()};
+  impl_->run(q.data(), set);
+  if (set.position == kNotIndexed) return std::nullopt;
+  return Result{impl_->source_of[set.position], set.worst};
 }
 
 template <int Dim, typename Scalar>
 std::optional<Neighbor<Scalar>> KdTree<Dim, Scalar>::nearest(const Point& q, Scalar max_distance) const {
   ROVE_CHECK_GE(max_distance, Scalar(0));
-  if (empty() || !finite_point(q.data(), Dim)) return std::nullopt;
-  NearestWithin<Scalar> rs{std::nextafter(max_distance * max_distance,
-                                          std::numeric_limits<Scalar>::infinity())};
-  impl_->index->findNeighbors(rs, q.data(), nanoflann::SearchParams());
-  if (!rs.found) return std::nullopt;
-  return Result{impl_->source_of[rs.index], rs.worst};
+  if (empty() || !finite_point<Scalar, Dim>(q.data())) return std::nullopt;
+  // Points are admitted strictly below the bound; one ulp above
+  // max_distance² makes that "distance <= max_distance" exactly.
+  NearestSet<Scalar> set{std::nextafter(max_distance * max_distance, std::numeric_limits<Scalar>::infinity())};
+  impl_->run(q.data(), set);
+  if (set.position == kNotIndexed) return std::nullopt;
+  return Result{impl_->source_of[set.position], set.worst};
 }
 
 template <int Dim, typename Scalar>
 std::size_t KdTree<Dim, Scalar>::knn(const Point& q, std::size_t k, std::span<Result> out) const {
   ROVE_CHECK_GE(out.size(), k);
-  if (k == 0 || empty() || !finite_point(q.data(), Dim)) return 0;
-  k = std::min(k, size());
-  constexpr std::size_t kStack = 64;
-  std::uint32_t pos_stack[kStack];
-  Scalar d_stack[kStack];
-  std::vector<std::uint32_t> pos_heap;
-  std::vector<Scalar> d_heap;
-  std::uint32_t* pos = pos_stack;
-  Scalar* d = d_stack;
-  if (k > kStack) {
-    pos_heap.resize(k);
-    d_heap.resize(k);
-    pos = pos_heap.data();
-    d = d_heap.data();
+  if (k == 0 || empty() || !finite_point<Scalar, Dim>(q.data())) return 0;
+  if (k == 1) {
+    NearestSet<Scalar> set{std::numeric_limits<Scalar>::infinity()};
+    impl_->run(q.data(), set);
+    if (set.position == kNotIndexed) return 0;  // every distance overflowed
+    out[0] = Result{impl_->source_of[set.position], set.worst};
+    return 1;
   }
-  nanoflann::KNNResultSet<Scalar, std::uint32_t, std::size_t> rs(k);
-  rs.init(pos, d);
-  impl_->index->findNeighbors(rs, q.data(), nanoflann::SearchParams());
-  const std::size_t n = rs.size();
-  for (std::size_t i = 0; i < n; ++i) out[i] = Result{impl_->source_of[pos[i]], d[i]};
-  return n;
+  k = std::min(k, size());
+  KnnSet<Scalar> set{out.data(), k, impl_->source_of.data()};
+  impl_->run(q.data(), set);
+  return set.count;
 }
 
 template <int Dim, typename Scalar>
@@ -235,21 +404,13 @@ std::size_t KdTree<Dim, Scalar>::radius(const Point& q, Scalar radius, std::vect
   ROVE_CHECK_GE(radius, Scalar(0));
   ROVE_CHECK_FINITE(radius);
   out.clear();
-  if (empty() || !finite_point(q.data(), Dim)) return 0;
-  // nanoflann's RadiusResultSet keeps dist < r²; bump r² by one ulp so that
-  // points exactly on the sphere are included (distance <= radius).
-  const Scalar r2 = std::nextafter(radius * radius, std::numeric_limits<Scalar>::infinity());
-  std::vector<std::pair<std::uint32_t, Scalar>> hits;
-  nanoflann::RadiusResultSet<Scalar, std::uint32_t> rs(r2, hits);
-  impl_->index->findNeighbors(rs, q.data(), nanoflann::SearchParams());
-  const Scalar exact_r2 = radius * radius;
-  out.reserve(hits.size());
-  for (const auto& [pos, d2] : hits)
-    if (d2 <= exact_r2) out.push_back(Result{impl_->source_of[pos], d2});
-  if (sorted)
-    std::sort(out.begin(), out.end(), [](const Result& a, const Result& b) {
-      return a.sq_distance < b.sq_distance || (a.sq_distance == b.sq_distance && a.index < b.index);
-    });
+  if (empty() || !finite_point<Scalar, Dim>(q.data())) return 0;
+  // Points are admitted strictly below the bound; one ulp above radius²
+  // makes that "distance <= radius" exactly.
+  RadiusSet<Scalar> set{out, impl_->source_of.data(),
+                        std::nextafter(radius * radius, std::numeric_limits<Scalar>::infinity())};
+  impl_->run(q.data(), set);
+  if (sorted) sort_neighbors(out);
   return out.size();
 }
 

@@ -1,7 +1,6 @@
 #pragma once
 /// \file
-/// KdTree: exact nearest, k-nearest and radius search over 2D or 3D points
-/// (nanoflann underneath).
+/// KdTree: exact nearest, k-nearest and radius search over 2D or 3D points.
 ///
 ///   rove::KdTree3f tree(cloud);                 // any PointCloudLike
 ///   if (auto nn = tree.nearest(q))              // q: Eigen::Vector3f
@@ -12,7 +11,10 @@
 /// The tree copies the coordinates it indexes (the first Dim coordinates of
 /// each point, converted to Scalar) and stores them in tree order, so a leaf
 /// scan reads consecutive memory; the source cloud may change or go away
-/// afterwards without affecting the tree. Points with a NaN or infinite
+/// afterwards without affecting the tree. The tree is built in one pass over
+/// that copy: each node splits the bounding box of its points in the middle
+/// of its widest side (sliding to the points when one side would be empty),
+/// partitioning the copy in place. Points with a NaN or infinite
 /// coordinate are not indexed (as PCL's KdTreeFLANN); indices in results
 /// always refer to the source cloud.
 ///
@@ -23,11 +25,13 @@
 /// Thread-safety: every const member may be called from any number of
 /// threads at once; construction and assignment need exclusive access.
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -74,7 +78,7 @@ class KdTree {
   template <PointCloudLike C>
     requires(cloud_dim_v<C> >= Dim)
   explicit KdTree(const C& cloud, const KdTreeOptions& options = {})
-      : KdTree(copy_points(cloud), options) {}
+      : KdTree(finite_points(cloud), options) {}
   /// Indexes `points` (the indices in results refer to this vector).
   explicit KdTree(std::vector<Point> points, const KdTreeOptions& options = {});
 
@@ -119,16 +123,38 @@ class KdTree {
   std::vector<Result> radius(const Point& q, Scalar radius) const;
 
  private:
+  /// The finite points of a source cloud in Scalar precision, each with its
+  /// index in the source.
+  struct FinitePoints {
+    std::vector<Point> points;
+    std::vector<std::uint32_t> source_index;
+    std::size_t source_size = 0;
+  };
+
   template <PointCloudLike C>
-  static std::vector<Point> copy_points(const C& cloud) {
+  static FinitePoints finite_points(const C& cloud) {
+    FinitePoints f;
     const std::size_t n = point_count(cloud);
-    std::vector<Point> out(n);
+    f.source_size = n;
+    if (n >= std::size_t{0xffffffffu}) return f;  // rejected by the constructor
+    f.points.resize(n);
+    f.source_index.resize(n);
+    std::size_t w = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      const auto& p = point_at(cloud, i);
-      out[i] = p.template head<Dim>().template cast<Scalar>();
+      const Point p = point_at(cloud, i).template head<Dim>().template cast<Scalar>();
+      bool finite = true;
+      for (int d = 0; d < Dim; ++d) finite = finite && std::isfinite(p[d]);
+      if (!finite) continue;
+      f.points[w] = p;
+      f.source_index[w] = static_cast<std::uint32_t>(i);
+      ++w;
     }
-    return out;
+    f.points.resize(w);
+    f.source_index.resize(w);
+    return f;
   }
+
+  explicit KdTree(FinitePoints finite, const KdTreeOptions& options);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
