@@ -127,6 +127,66 @@ TEST(KdTree, SkipsNonFinitePoints) { random_check<3, float>(1500, 10, 5, true, f
 TEST(KdTree, ManyTiesOnAGrid) { random_check<3, float>(1200, 16, 6, false, true); }
 TEST(KdTree, ManyTiesOnAGrid2D) { random_check<2, float>(1200, 3, 7, false, true); }
 
+// Points on a plane, on a line and on a few repeated coordinates give cells
+// whose boxes are flat along some axes and splits that land on many equal
+// values; every search must still match brute force.
+template <typename Scalar>
+void degenerate_check(const std::vector<Eigen::Matrix<Scalar, 3, 1>>& pts, std::size_t leaf, unsigned seed) {
+  using P = Eigen::Matrix<Scalar, 3, 1>;
+  KdTree<3, Scalar> tree(pts, KdTreeOptions{leaf});
+  ASSERT_EQ(tree.size(), pts.size());
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-6, 6);
+  std::vector<Neighbor<Scalar>> unsorted;
+  for (int t = 0; t < 40; ++t) {
+    const P q(static_cast<Scalar>(u(rng)), static_cast<Scalar>(u(rng)), static_cast<Scalar>(u(rng) * 0.1));
+    const auto all = brute_all<3, Scalar>(pts, q);
+    EXPECT_EQ(tree.nearest(q)->sq_distance, all[0].sq_distance);
+    for (std::size_t k : {1u, 3u, 16u, 100u}) expect_same_knn(tree.knn(q, k), all, k);
+    const Scalar r = static_cast<Scalar>(1 + t % 3);
+    const auto sorted = tree.radius(q, r);
+    std::size_t want = 0;
+    for (const auto& a : all) want += a.sq_distance <= r * r ? 1 : 0;
+    ASSERT_EQ(sorted.size(), want);
+    for (std::size_t i = 0; i < want; ++i) EXPECT_EQ(sorted[i], all[i]) << "rank " << i;
+    // Unsorted: the same set.
+    tree.radius(q, r, unsorted, false);
+    std::sort(unsorted.begin(), unsorted.end(), [](const auto& a, const auto& b) {
+      return a.sq_distance < b.sq_distance || (a.sq_distance == b.sq_distance && a.index < b.index);
+    });
+    EXPECT_EQ(unsorted, sorted);
+  }
+  for (std::size_t i = 0; i < pts.size(); i += 37) EXPECT_EQ(tree.indexed_point(static_cast<std::uint32_t>(i)), pts[i]);
+}
+
+TEST(KdTree, PointsOnAPlaneMatchBruteForce) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-5, 5);
+  std::vector<Eigen::Vector3f> pts(2000);
+  for (auto& p : pts) p = Eigen::Vector3f(u(rng), u(rng), 0.0f);
+  for (std::size_t leaf : {1u, 10u}) degenerate_check<float>(pts, leaf, 12);
+}
+
+TEST(KdTree, PointsOnALineMatchBruteForce) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-5, 5);
+  std::vector<Eigen::Vector3d> pts(1500);
+  for (auto& p : pts) {
+    const double s = u(rng);
+    p = Eigen::Vector3d(s, 0.5 * s, 1.0);
+  }
+  for (std::size_t leaf : {2u, 10u}) degenerate_check<double>(pts, leaf, 14);
+}
+
+TEST(KdTree, FewDistinctCoordinatesMatchBruteForce) {
+  // Three values per axis: most splits fall on runs of equal coordinates.
+  std::mt19937 rng(15);
+  std::uniform_int_distribution<int> v(-1, 1);
+  std::vector<Eigen::Vector3f> pts(1800);
+  for (auto& p : pts) p = Eigen::Vector3f(2.0f * v(rng), 2.0f * v(rng), 0.1f * v(rng));
+  for (std::size_t leaf : {1u, 7u, 64u}) degenerate_check<float>(pts, leaf, 16);
+}
+
 TEST(KdTree, TwoDimensionalTreeOverA3DCloudIgnoresZ) {
   PointCloud c;
   c.push_back({0, 0, 100});

@@ -11,12 +11,12 @@
 /// The tree copies the coordinates it indexes (the first Dim coordinates of
 /// each point, converted to Scalar) and stores them in tree order, so a leaf
 /// scan reads consecutive memory; the source cloud may change or go away
-/// afterwards without affecting the tree. The tree is built in one pass over
-/// that copy: each node splits the bounding box of its points in the middle
-/// of its widest side (sliding to the points when one side would be empty),
-/// partitioning the copy in place. Points with a NaN or infinite
-/// coordinate are not indexed (as PCL's KdTreeFLANN); indices in results
-/// always refer to the source cloud.
+/// afterwards without affecting the tree. The build sorts that copy into
+/// tree order as it goes, partitioning it in place: each node splits its
+/// cell in the middle of the cell's widest side, sliding the split onto the
+/// points when it misses them (the sliding-midpoint rule, as nanoflann and
+/// FLANN). Points with a NaN or infinite coordinate are not indexed (as
+/// PCL's KdTreeFLANN); indices in results always refer to the source cloud.
 ///
 /// Ties (equal distances) are broken in an unspecified but deterministic
 /// order. Distances are squared Euclidean distances in Scalar precision,
