@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "rove/core/error.h"
+#include "rove/registration/icp_3d_multi_resolution.h"
 #include "synthetic_3d.h"
 
 namespace rove {
@@ -103,6 +104,76 @@ TEST(Icp3d, BadInputs) {
   Eigen::Isometry3d bad = Eigen::Isometry3d::Identity();
   bad(0, 0) = NAN;
   EXPECT_THROW(icp_3d(target, target, bad), InvalidArgument);
+}
+
+TEST(Icp3dMultiResolution, RecoversAKnownTransformCoarseToFine) {
+  const auto scene = test::room_3d(0.05);
+  const Eigen::Isometry3d truth = make_pose(0.3, -0.2, 0.05, 0.02, -0.03, 0.1);
+  const auto src = test::as_seen_from(scene, truth, 0.002, 4);
+  for (auto method : {Icp3dMethod::PointToPoint, Icp3dMethod::PointToPlane, Icp3dMethod::Gicp}) {
+    Icp3dMultiResolutionOptions o;
+    // The last level at full resolution: the source is the scene's own
+    // points moved, so point-to-point gets exact partners there.
+    o.voxel_sizes = {0.3, 0.1, 0.0};
+    o.icp.method = method;
+    const auto r = icp_3d_multi_resolution(scene, src, Eigen::Isometry3d::Identity(), o);
+    SCOPED_TRACE(static_cast<int>(method));
+    ASSERT_EQ(r.levels.size(), 3u);
+    ASSERT_EQ(r.result.termination, RegistrationTermination::Converged) << r.result.message;
+    EXPECT_EQ(r.total_iterations,
+              r.levels[0].iterations + r.levels[1].iterations + r.levels[2].iterations);
+    EXPECT_EQ(r.source_points.back(), src.size());
+    EXPECT_LT(r.source_points[0], r.source_points[1]);
+    const auto [et, er] = pose_error(r.result.matrix, truth.matrix());
+    EXPECT_LT(et, 0.01);
+    EXPECT_LT(er, 3e-3);
+  }
+}
+
+TEST(Icp3dMultiResolution, ParallelEqualsSerial) {
+  const auto scene = test::room_3d(0.1);
+  const auto src = test::as_seen_from(scene, make_pose(0.1, 0.1, 0, 0, 0, 0.05), 0.01, 5);
+  Icp3dMultiResolutionOptions o;
+  o.voxel_sizes = {0.3, 0.0};
+  const auto a = icp_3d_multi_resolution(scene, src, Eigen::Isometry3d::Identity(), o);
+  o.icp.num_threads = 2;
+  const auto b = icp_3d_multi_resolution(scene, src, Eigen::Isometry3d::Identity(), o);
+  EXPECT_EQ(a.result.matrix, b.result.matrix);
+  EXPECT_EQ(a.total_iterations, b.total_iterations);
+}
+
+TEST(Icp3dMultiResolution, BadInputs) {
+  const auto scene = test::room_3d(0.3);
+  const std::vector<Eigen::Vector3f> none;
+  const std::vector<Eigen::Vector3f> nans(5, Eigen::Vector3f::Constant(NAN));
+  const std::vector<Eigen::Vector3f> one{Eigen::Vector3f(1, 2, 3)};
+  for (auto method : {Icp3dMethod::PointToPoint, Icp3dMethod::PointToPlane, Icp3dMethod::Gicp}) {
+    Icp3dMultiResolutionOptions o;
+    o.icp.method = method;
+    const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+    const auto e1 = icp_3d_multi_resolution(scene, none, I, o);
+    EXPECT_EQ(e1.result.termination, RegistrationTermination::InvalidInput) << e1.result.message;
+    EXPECT_EQ(e1.levels.size(), 1u);
+    EXPECT_EQ(icp_3d_multi_resolution(none, scene, I, o).result.termination,
+              RegistrationTermination::InvalidInput);
+    EXPECT_EQ(icp_3d_multi_resolution(scene, nans, I, o).result.termination,
+              RegistrationTermination::InvalidInput);
+    const auto single = icp_3d_multi_resolution(scene, one, I, o);
+    EXPECT_EQ(single.result.termination, RegistrationTermination::TooFewCorrespondences)
+        << single.result.message;
+    EXPECT_TRUE(single.result.matrix.allFinite());
+  }
+  Icp3dMultiResolutionOptions bad;
+  bad.voxel_sizes = {};
+  EXPECT_THROW(icp_3d_multi_resolution(scene, scene, Eigen::Isometry3d::Identity(), bad),
+               InvalidArgument);
+  bad.voxel_sizes = {0.25, NAN};
+  EXPECT_THROW(icp_3d_multi_resolution(scene, scene, Eigen::Isometry3d::Identity(), bad),
+               InvalidArgument);
+  bad.voxel_sizes = {0.25};
+  bad.distance_factor = 0;
+  EXPECT_THROW(icp_3d_multi_resolution(scene, scene, Eigen::Isometry3d::Identity(), bad),
+               InvalidArgument);
 }
 
 }  // namespace
