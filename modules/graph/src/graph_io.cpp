@@ -2,6 +2,7 @@
 #include "rove/graph/graph_io.h"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -170,13 +171,23 @@ SE3d se3_from_quaternion(LineReader& r, double x, double y, double z, double qx,
 const char* const kInfo2Toro[6] = {"inf_xx", "inf_xy", "inf_yy", "inf_tt", "inf_xt", "inf_yt"};
 const char* const kInfo2G2o[6] = {"inf_xx", "inf_xy", "inf_xt", "inf_yy", "inf_yt", "inf_tt"};
 
+// Field names "inf_ij" (1-based) of an upper triangle up to 6 × 6, made
+// once: naming each field per number read was a third of the parse time.
+const std::string& info_field_name(int i, int j) {
+  static const auto names = [] {
+    std::array<std::string, 36> n;
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) n[static_cast<std::size_t>(6 * a + b)] = fmt::format("inf_{}{}", a + 1, b + 1);
+    return n;
+  }();
+  return names[static_cast<std::size_t>(6 * i + j)];
+}
+
 template <int N>
 void read_upper_triangle(LineReader& r, Eigen::Matrix<double, N, N>& m) {
+  static_assert(N <= 6);
   for (int i = 0; i < N; ++i) {
-    for (int j = i; j < N; ++j) {
-      const std::string field = fmt::format("inf_{}{}", i + 1, j + 1);
-      m(i, j) = m(j, i) = r.number(field);
-    }
+    for (int j = i; j < N; ++j) m(i, j) = m(j, i) = r.number(info_field_name(i, j));
   }
 }
 
@@ -401,14 +412,33 @@ PoseGraph<PoseT> parse_text(std::string_view text, std::string_view source) {
 // ---------------------------------------------------------------------------
 // Text writing
 
-std::string g(double v) { return fmt::format("{}", v); }
+// Numbers are written in their shortest form that reads back exactly
+// (std::to_chars), straight into the output.
+void put(std::string& out, double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  out += ' ';
+  out.append(buf, r.ptr);
+}
+void put_id(std::string& out, VertexId v) {
+  char buf[24];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  out += ' ';
+  out.append(buf, r.ptr);
+}
 
 void append_info_upper(std::string& out, const Eigen::Matrix<double, 6, 6>& m) {
   for (int i = 0; i < 6; ++i)
-    for (int j = i; j < 6; ++j) {
-      out += ' ';
-      out += g(m(i, j));
-    }
+    for (int j = i; j < 6; ++j) put(out, m(i, j));
+}
+
+void append_fixed(std::string& out, const auto& graph) {
+  for (const auto& [id, v] : graph.vertices()) {
+    if (!v.fixed) continue;
+    out += "FIX";
+    put_id(out, id);
+    out += '\n';
+  }
 }
 
 std::string format_2d(const PoseGraph2D& graph, GraphFileFormat format) {
@@ -419,25 +449,32 @@ std::string format_2d(const PoseGraph2D& graph, GraphFileFormat format) {
   out.reserve(64 * (graph.num_vertices() + 2 * graph.num_edges()));
   for (const auto& [id, v] : graph.vertices()) {
     const auto& t = v.pose.translation();
-    out += fmt::format("{} {} {} {} {}\n", toro ? "VERTEX2" : "VERTEX_SE2", id, g(t.x()), g(t.y()),
-                       g(v.pose.angle()));
+    out += toro ? "VERTEX2" : "VERTEX_SE2";
+    put_id(out, id);
+    put(out, t.x());
+    put(out, t.y());
+    put(out, v.pose.angle());
+    out += '\n';
   }
   for (const auto& e : graph.edges()) {
     const auto& t = e.measurement.translation();
     const auto& I = e.information;
-    if (toro) {
-      out += fmt::format("EDGE2 {} {} {} {} {} {} {} {} {} {} {}\n", e.from, e.to, g(t.x()),
-                         g(t.y()), g(e.measurement.angle()), g(I(0, 0)), g(I(0, 1)), g(I(1, 1)),
-                         g(I(2, 2)), g(I(0, 2)), g(I(1, 2)));
-    } else {
-      out += fmt::format("EDGE_SE2 {} {} {} {} {} {} {} {} {} {} {}\n", e.from, e.to, g(t.x()),
-                         g(t.y()), g(e.measurement.angle()), g(I(0, 0)), g(I(0, 1)), g(I(0, 2)),
-                         g(I(1, 1)), g(I(1, 2)), g(I(2, 2)));
+    out += toro ? "EDGE2" : "EDGE_SE2";
+    put_id(out, e.from);
+    put_id(out, e.to);
+    put(out, t.x());
+    put(out, t.y());
+    put(out, e.measurement.angle());
+    if (toro) {  // inf_xx inf_xy inf_yy inf_pp inf_xp inf_yp
+      for (const auto& [i, j] : {std::pair{0, 0}, {0, 1}, {1, 1}, {2, 2}, {0, 2}, {1, 2}})
+        put(out, I(i, j));
+    } else {  // upper triangle, row by row
+      for (const auto& [i, j] : {std::pair{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}})
+        put(out, I(i, j));
     }
+    out += '\n';
   }
-  for (const auto& [id, v] : graph.vertices()) {
-    if (v.fixed) out += fmt::format("FIX {}\n", id);
-  }
+  append_fixed(out, graph);
   return out;
 }
 
@@ -449,23 +486,33 @@ std::string format_3d(const PoseGraph3D& graph, GraphFileFormat format) {
   out.reserve(128 * (graph.num_vertices() + 3 * graph.num_edges()));
   auto pose_fields = [&](const SE3d& p) {
     const auto& t = p.translation();
+    put(out, t.x());
+    put(out, t.y());
+    put(out, t.z());
     if (toro) {
       const Eigen::Vector3d rpy = rpy_from_matrix(p.rotation_matrix());
-      return fmt::format("{} {} {} {} {} {}", g(t.x()), g(t.y()), g(t.z()), g(rpy(0)), g(rpy(1)),
-                         g(rpy(2)));
+      for (int k = 0; k < 3; ++k) put(out, rpy(k));
+    } else {
+      const auto& q = p.quaternion();
+      put(out, q.x());
+      put(out, q.y());
+      put(out, q.z());
+      put(out, q.w());
     }
-    const auto& q = p.quaternion();
-    return fmt::format("{} {} {} {} {} {} {}", g(t.x()), g(t.y()), g(t.z()), g(q.x()), g(q.y()),
-                       g(q.z()), g(q.w()));
   };
   for (const auto& [id, v] : graph.vertices()) {
-    out += fmt::format("{} {} {}\n", toro ? "VERTEX3" : "VERTEX_SE3:QUAT", id, pose_fields(v.pose));
+    out += toro ? "VERTEX3" : "VERTEX_SE3:QUAT";
+    put_id(out, id);
+    pose_fields(v.pose);
+    out += '\n';
   }
   Eigen::Matrix<double, 6, 1> s_inv;
   s_inv << 1, 1, 1, 0.5, 0.5, 0.5;
   for (const auto& e : graph.edges()) {
-    out += fmt::format("{} {} {} {}", toro ? "EDGE3" : "EDGE_SE3:QUAT", e.from, e.to,
-                       pose_fields(e.measurement));
+    out += toro ? "EDGE3" : "EDGE_SE3:QUAT";
+    put_id(out, e.from);
+    put_id(out, e.to);
+    pose_fields(e.measurement);
     if (toro) {
       append_info_upper(out, s_inv.asDiagonal() * e.information * s_inv.asDiagonal());
     } else {
@@ -473,9 +520,7 @@ std::string format_3d(const PoseGraph3D& graph, GraphFileFormat format) {
     }
     out += '\n';
   }
-  for (const auto& [id, v] : graph.vertices()) {
-    if (v.fixed) out += fmt::format("FIX {}\n", id);
-  }
+  append_fixed(out, graph);
   return out;
 }
 
