@@ -37,9 +37,9 @@ trap 'rm -rf "$work"' EXIT
 # name file dimension initial-guess processes-per-measurement
 sets="circle50 graph_2d_circle_50nodes.graph 2d as-is 20
 w100 w100.graph 2d as-is 20
-intel intel.g2o 2d as-is 1
-intel_carlone intel_carlone.g2o 2d chordal 1
-M3500 M3500.g2o 2d as-is 1
+intel intel.g2o 2d as-is 5
+intel_carlone intel_carlone.g2o 2d chordal 5
+M3500 M3500.g2o 2d as-is 5
 sphere2500 sphere2500.txt 3d as-is 1
 torus3D torus3D.g2o 3d spanning-tree 1"
 
