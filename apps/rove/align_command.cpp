@@ -20,6 +20,7 @@
 #include "rove/maps/ply.h"
 #include "rove/maps/voxel_grid.h"
 #include "rove/registration/icp_3d.h"
+#include "rove/registration/icp_3d_multi_resolution.h"
 #include "rove/registration/ndt.h"
 
 namespace rove::cli {
@@ -28,8 +29,10 @@ namespace {
 
 struct AlignOptions {
   std::string source, target, method = "gicp", init, init_file, output;
-  double voxel = 0.0;
+  std::string voxel = "0";
   double max_distance = 1.0;
+  double distance_factor = 3.0;
+  std::size_t neighbors = 10;
   double resolution = 1.0;
   int max_iterations = 0;
   int threads = 1;
@@ -54,6 +57,30 @@ void write_cloud(const std::string& path, const PointCloud& cloud) {
   if (e == "pcd") return write_pcd(path, cloud);
   if (e == "ply") return write_ply(path, cloud);
   throw IoError(path, "unknown point cloud format (expected .pcd or .ply)");
+}
+
+/// "0.25,0.1" (meters, coarse to fine) as voxel sizes, each finite and ≥ 0.
+std::vector<double> parse_voxels(const std::string& text) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
+    if (used == 0 || used != item.size() || !std::isfinite(x) || x < 0)
+      throw ParseError({"--voxel", std::nullopt, std::nullopt, "voxel"},
+                       fmt::format("'{}' is not a finite number >= 0", item));
+    v.push_back(x);
+  }
+  if (v.empty())
+    throw ParseError({"--voxel", std::nullopt, std::nullopt, "voxel"}, "no voxel size given");
+  return v;
 }
 
 /// "x,y,z,roll,pitch,yaw" (meters, radians) as a transform, R = Rz·Ry·Rx.
@@ -110,10 +137,7 @@ Eigen::Isometry3d read_init_file(const std::string& path) {
 void run(const AlignOptions& o) {
   const PointCloud source_full = read_cloud(o.source);
   const PointCloud target_full = read_cloud(o.target);
-  const PointCloud source = o.voxel > 0 ? voxel_downsample(source_full, static_cast<float>(o.voxel))
-                                        : source_full;
-  const PointCloud target = o.voxel > 0 ? voxel_downsample(target_full, static_cast<float>(o.voxel))
-                                        : target_full;
+  const std::vector<double> voxels = parse_voxels(o.voxel);
   Eigen::Isometry3d init = Eigen::Isometry3d::Identity();
   if (!o.init.empty()) init = parse_init(o.init);
   if (!o.init_file.empty()) init = read_init_file(o.init_file);
@@ -121,9 +145,20 @@ void run(const AlignOptions& o) {
   Eigen::Matrix4d T;
   double fitness = 0, goodness = 0;
   int iterations = 0;
+  std::size_t source_points = 0, target_points = 0;
   RegistrationTermination termination;
   std::string message;
   if (o.method == "ndt") {
+    if (voxels.size() != 1)
+      throw ParseError({"--voxel", std::nullopt, std::nullopt, "voxel"},
+                       "ndt takes one voxel size, not a coarse-to-fine list");
+    const auto down = [&](const PointCloud& c) {
+      return voxels[0] > 0 ? voxel_downsample(c, static_cast<float>(voxels[0])) : c;
+    };
+    const PointCloud source = down(source_full);
+    const PointCloud target = down(target_full);
+    source_points = source.size();
+    target_points = target.size();
     NdtGridOptions go;
     go.resolution = o.resolution;
     const NdtGrid3D grid(std::span<const Eigen::Vector3f>(target.points()), go);
@@ -138,39 +173,47 @@ void run(const AlignOptions& o) {
     termination = r.termination;
     message = r.message;
   } else {
-    Icp3dOptions io;
-    PrepareOptions po;
-    po.num_threads = o.threads;
-    if (o.method == "icp") {
-      io.method = Icp3dMethod::PointToPoint;
-    } else if (o.method == "point-to-plane") {
-      io.method = Icp3dMethod::PointToPlane;
-      po.normals = true;
+    // One voxel size: one level, gate --max-distance. Several: coarse to
+    // fine, gate --distance-factor × voxel at each level.
+    Icp3dMultiResolutionOptions mo;
+    mo.voxel_sizes = voxels;
+    mo.neighbors = o.neighbors;
+    if (voxels.size() == 1) {
+      if (voxels[0] > 0) {
+        mo.distance_factor = o.max_distance / voxels[0];
+      } else {
+        mo.full_resolution_distance = o.max_distance;
+      }
     } else {
-      io.method = Icp3dMethod::Gicp;
-      po.covariances = true;
+      mo.distance_factor = o.distance_factor;
     }
-    io.max_correspondence_distance = o.max_distance;
-    io.num_threads = o.threads;
-    if (o.max_iterations > 0) io.max_iterations = o.max_iterations;
-    const auto t = PreparedCloud3D::from_cloud(target, po);
-    PrepareOptions ps = po;
-    ps.normals = false;
-    const auto s = PreparedCloud3D::from_cloud(source, ps);
-    const auto r = icp_3d(t, s, init, io);
+    if (o.method == "icp") {
+      mo.icp.method = Icp3dMethod::PointToPoint;
+    } else if (o.method == "point-to-plane") {
+      mo.icp.method = Icp3dMethod::PointToPlane;
+    } else {
+      mo.icp.method = Icp3dMethod::Gicp;
+    }
+    mo.icp.num_threads = o.threads;
+    if (o.max_iterations > 0) mo.icp.max_iterations = o.max_iterations;
+    const auto rr = icp_3d_multi_resolution(target_full.points(), source_full.points(), init, mo);
+    for (const auto& level : rr.levels) fmt::print("{}\n", level.message);
+    const auto& r = rr.result;
     T = r.matrix;
     fitness = r.fitness;
     goodness = r.goodness;
-    iterations = r.iterations;
+    iterations = rr.total_iterations;
     termination = r.termination;
     message = r.message;
+    source_points = rr.source_points.back();
+    target_points = rr.target_points.back();
   }
   fmt::print("T_target_source:\n");
   for (int i = 0; i < 4; ++i)
     fmt::print("{:12.6f} {:12.6f} {:12.6f} {:12.6f}\n", T(i, 0), T(i, 1), T(i, 2), T(i, 3));
   fmt::print("method: {}\npoints: source {} target {}\nfitness: {:.6g} m^2\ngoodness: {:.4f}\n"
              "iterations: {}\ntermination: {} ({})\n",
-             o.method, source.size(), target.size(), fitness, goodness, iterations,
+             o.method, source_points, target_points, fitness, goodness, iterations,
              to_string(termination), message);
   if (!o.output.empty()) {
     PointCloud aligned = source_full;
@@ -202,10 +245,19 @@ void add_align_command(CLI::App& app) {
   cmd->add_option("--init-file", o->init_file, "Initial guess as a 4x4 matrix file")
       ->check(CLI::ExistingFile)
       ->excludes(init);
-  cmd->add_option("--voxel", o->voxel, "Voxel-grid leaf for both clouds, m (0: none)")
-      ->check(CLI::NonNegativeNumber)
+  cmd->add_option("--voxel", o->voxel,
+                  "Voxel-grid leaf for both clouds, m (0: none); a list coarse to fine, e.g. "
+                  "0.25,0.1, registers level by level (ICP family)")
       ->capture_default_str();
-  cmd->add_option("--max-distance", o->max_distance, "ICP/GICP pairing gate, m")
+  cmd->add_option("--distance-factor", o->distance_factor,
+                  "Coarse to fine: pairing gate = factor x the level's voxel")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--neighbors", o->neighbors,
+                  "Neighbours (point included) for normals and GICP covariances")
+      ->check(CLI::Range(3, 1000))
+      ->capture_default_str();
+  cmd->add_option("--max-distance", o->max_distance, "ICP/GICP pairing gate with one voxel size, m")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--resolution", o->resolution, "NDT cell size, m")

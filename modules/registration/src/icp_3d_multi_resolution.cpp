@@ -64,7 +64,7 @@ Icp3dMultiResolutionResult icp_3d_multi_resolution(std::span<const Eigen::Vector
     io.max_correspondence_distance = voxel > 0 ? o.distance_factor * voxel : o.full_resolution_distance;
     Icp3dResult r = icp_3d(t, s, T, io);
     out.total_iterations += r.iterations;
-    r.message = fmt::format("level {} (voxel {} m, gate {} m): {}", level, voxel,
+    r.message = fmt::format("level {} (voxel {:g} m, gate {:g} m): {}", level, voxel,
                             io.max_correspondence_distance, r.message);
     out.levels.push_back(r);
     const bool go_on = r.termination == RegistrationTermination::Converged ||
