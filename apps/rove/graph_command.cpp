@@ -110,6 +110,8 @@ int run(Graph g, const GraphSlamArgs& a, int dim, double load_s) {
     o.linear_solver = LinearSolverType::Eigen;
   } else if (a.linear_solver == "cholmod") {
     o.linear_solver = LinearSolverType::Cholmod;
+  } else if (a.linear_solver == "block") {
+    o.linear_solver = LinearSolverType::Block;
   }
   if (!a.robust.empty()) o.robust_kernel = parse_robust_kernel(a.robust, "--robust");
   const InitialGuess init = parse_initial_guess(a.init);
@@ -219,8 +221,8 @@ void add_graph_slam_command(CLI::App& app) {
   cmd->add_option("--threads", a->threads, "Threads for linearization (default 1)")
       ->check(CLI::Range(1, 256));
   cmd->add_option("--level", a->level, "Optimize the edges of this level (default 0)");
-  cmd->add_option("--linear-solver", a->linear_solver, "auto | eigen | cholmod")
-      ->check(CLI::IsMember({"auto", "eigen", "cholmod"}));
+  cmd->add_option("--linear-solver", a->linear_solver, "auto | block | eigen | cholmod")
+      ->check(CLI::IsMember({"auto", "block", "eigen", "cholmod"}));
   cmd->add_option("--function-tolerance", a->function_tolerance,
                   "Stop when χ² decreases by less than this fraction")
       ->check(CLI::NonNegativeNumber);

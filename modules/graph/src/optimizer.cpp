@@ -248,7 +248,7 @@ bool Engine<PoseT>::setup(GraphOptimizerResult& result) {
     LinearSolverType type = options_.linear_solver;
     std::vector<int> perm;
     if (type == LinearSolverType::Auto) {
-      type = LinearSolverType::Eigen;
+      type = LinearSolverType::Block;
       if (detail::cholmod_compiled()) {
         perm = detail::fill_reducing_order(pattern, false);
         const detail::CholeskyCost cost = detail::block_cholesky_cost(pattern, perm, D);
@@ -259,7 +259,7 @@ bool Engine<PoseT>::setup(GraphOptimizerResult& result) {
         }
       }
     }
-    solver_ = std::make_unique<detail::SparseCholesky>(type, options_.num_threads);
+    solver_ = std::make_unique<detail::SparseCholesky>(type, D, options_.num_threads);
     result.linear_solver = solver_->type();
     if (perm.empty())
       perm = detail::fill_reducing_order(pattern, solver_->type() == LinearSolverType::Cholmod);
@@ -524,9 +524,9 @@ GraphOptimizerResult Engine<PoseT>::run() {
   Stopwatch total;
   Stopwatch phase;
   // Until setup() chooses (it loads CHOLMOD only if it chooses it).
-  result.linear_solver = options_.linear_solver == LinearSolverType::Cholmod
-                             ? LinearSolverType::Cholmod
-                             : LinearSolverType::Eigen;
+  result.linear_solver = options_.linear_solver == LinearSolverType::Auto
+                             ? LinearSolverType::Block
+                             : options_.linear_solver;
   if (!setup(result)) {
     result.timing.setup = phase.lap();
     result.timing.total = total.elapsed();
@@ -839,6 +839,7 @@ std::string_view to_string(LinearSolverType type) {
     case LinearSolverType::Auto: return "auto";
     case LinearSolverType::Eigen: return "eigen";
     case LinearSolverType::Cholmod: return "cholmod";
+    case LinearSolverType::Block: return "block";
   }
   return "?";
 }

@@ -1,6 +1,8 @@
 // Sparse Cholesky back-ends for the pose-graph optimizer.
 #include "sparse_cholesky.h"
 
+#include "block_cholesky.h"
+
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 
@@ -157,6 +159,9 @@ struct SparseCholesky::Impl {
   // Ordering is done by the caller (block AMD), so both back-ends factorize
   // in the natural order of the matrix they get.
   Eigen::SimplicialLLT<Matrix, Eigen::Upper, Eigen::NaturalOrdering<int>> eigen;
+  BlockCholesky<3> block3;
+  BlockCholesky<6> block6;
+  int block_size = 0;
 #ifdef ROVE_HAVE_CHOLMOD
   const CholmodApi* api = nullptr;
   cholmod_common common;
@@ -165,11 +170,16 @@ struct SparseCholesky::Impl {
 #endif
 };
 
-SparseCholesky::SparseCholesky(LinearSolverType type, int num_threads)
+SparseCholesky::SparseCholesky(LinearSolverType type, int block_size, int num_threads)
     : num_threads_(num_threads), impl_(std::make_unique<Impl>()) {
+  impl_->block_size = block_size;
+  if (type == LinearSolverType::Block) {
+    ROVE_CHECK_MSG(block_size == 3 || block_size == 6,
+                   "the block Cholesky takes 3x3 or 6x6 blocks, got {}", block_size);
+  }
 #ifdef ROVE_HAVE_CHOLMOD
   type_ = type == LinearSolverType::Auto
-              ? (cholmod_api().ok ? LinearSolverType::Cholmod : LinearSolverType::Eigen)
+              ? (cholmod_api().ok ? LinearSolverType::Cholmod : LinearSolverType::Block)
               : type;
   if (type_ == LinearSolverType::Cholmod) {
     impl_->api = &loaded_cholmod();
@@ -186,8 +196,10 @@ SparseCholesky::SparseCholesky(LinearSolverType type, int num_threads)
 #else
   ROVE_CHECK_MSG(type != LinearSolverType::Cholmod,
                  "this build of rove has no SuiteSparse CHOLMOD; use the Eigen solver");
-  type_ = LinearSolverType::Eigen;
+  type_ = type == LinearSolverType::Auto ? LinearSolverType::Block : type;
 #endif
+  if (type_ == LinearSolverType::Block && block_size != 3 && block_size != 6)
+    type_ = LinearSolverType::Eigen;
 }
 
 SparseCholesky::~SparseCholesky() {
@@ -210,6 +222,11 @@ void SparseCholesky::analyze(const Matrix& upper) {
     return;
   }
 #endif
+  if (type_ == LinearSolverType::Block) {
+    if (impl_->block_size == 3) impl_->block3.analyze(upper);
+    else impl_->block6.analyze(upper);
+    return;
+  }
   impl_->eigen.analyzePattern(upper);
 }
 
@@ -227,6 +244,9 @@ std::optional<long> SparseCholesky::factorize(const Matrix& upper) {
     return std::nullopt;
   }
 #endif
+  if (type_ == LinearSolverType::Block) {
+    return impl_->block_size == 3 ? impl_->block3.factorize(upper) : impl_->block6.factorize(upper);
+  }
   impl_->eigen.factorize(upper);
   if (impl_->eigen.info() != Eigen::Success) return -1L;
   return std::nullopt;
@@ -250,6 +270,11 @@ void SparseCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     return;
   }
 #endif
+  if (type_ == LinearSolverType::Block) {
+    if (impl_->block_size == 3) impl_->block3.solve(b, x);
+    else impl_->block6.solve(b, x);
+    return;
+  }
   x = impl_->eigen.solve(b);
 }
 
@@ -261,6 +286,10 @@ std::size_t SparseCholesky::factor_nonzeros() const {
     return impl_->factor->nzmax;
   }
 #endif
+  if (type_ == LinearSolverType::Block) {
+    return impl_->block_size == 3 ? impl_->block3.factor_nonzeros()
+                                  : impl_->block6.factor_nonzeros();
+  }
   return static_cast<std::size_t>(impl_->eigen.matrixL().nestedExpression().nonZeros());
 }
 

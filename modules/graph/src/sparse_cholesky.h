@@ -1,7 +1,8 @@
 #pragma once
 // Sparse Cholesky of a symmetric positive definite matrix stored as its upper
-// triangle (compressed columns, already in the elimination order): Eigen's
-// SimplicialLLT or SuiteSparse CHOLMOD. The pattern is analyzed once; the
+// triangle (compressed columns, already in the elimination order): rove's
+// block Cholesky (block_cholesky.h), Eigen's SimplicialLLT or SuiteSparse
+// CHOLMOD. The pattern is analyzed once; the
 // values are factorized again at every iteration.
 #include <cstddef>
 #include <memory>
@@ -46,9 +47,10 @@ class SparseCholesky {
  public:
   using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
-  /// Chooses the back-end (Auto → CHOLMOD when it loads, else Eigen).
+  /// Chooses the back-end (Auto → CHOLMOD when it loads, else Block).
+  /// `block_size` is the side of the dense blocks (3 or 6; Block needs it).
   /// `num_threads` bounds the threads CHOLMOD's own OpenMP regions may use.
-  SparseCholesky(LinearSolverType type, int num_threads);
+  SparseCholesky(LinearSolverType type, int block_size, int num_threads);
   ~SparseCholesky();
   SparseCholesky(const SparseCholesky&) = delete;
   SparseCholesky& operator=(const SparseCholesky&) = delete;

@@ -70,7 +70,7 @@ TEST(Optimizer, CircleReachesGroundTruth) {
 TEST(Optimizer, NoiselessSynthetic3DRecoversTruthWithEveryMethod) {
   for (auto solver : {GraphSolver::GaussNewton, GraphSolver::LevenbergMarquardt,
                       GraphSolver::DogLeg}) {
-    for (auto ls : {LinearSolverType::Eigen, LinearSolverType::Auto}) {
+    for (auto ls : {LinearSolverType::Eigen, LinearSolverType::Block, LinearSolverType::Auto}) {
       std::mt19937_64 rng(1);
       PoseGraph3D truth;
       PoseGraph3D g = synthetic_3d(rng, 60, 0.0, &truth);

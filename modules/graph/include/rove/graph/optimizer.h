@@ -1,10 +1,10 @@
 #pragma once
 /// \file
 /// Pose-graph optimization on the manifold: Gauss–Newton, Levenberg–
-/// Marquardt and Powell's dog-leg, with a sparse block Cholesky (Eigen's
-/// simplicial LLᵀ, or SuiteSparse CHOLMOD's supernodal factorization when
-/// rove was built with it) under a fill-reducing block ordering (AMD on the
-/// vertex graph).
+/// Marquardt and Powell's dog-leg, with a sparse block Cholesky (rove's own
+/// on dense pose-sized blocks, Eigen's simplicial LLᵀ, or SuiteSparse
+/// CHOLMOD's supernodal factorization when rove was built with it) under a
+/// fill-reducing block ordering (AMD on the vertex graph).
 ///
 /// The cost is χ² = Σ_edges ρ_e(e_eᵀ Ω_e e_e) with the error of
 /// pose_graph.h, ρ_e the edge's robust kernel (identity for plain least
@@ -36,9 +36,10 @@ enum class GraphSolver {
 
 /// Sparse Cholesky back-end.
 enum class LinearSolverType {
-  Auto,     ///< CHOLMOD when available, else Eigen
-  Eigen,    ///< Eigen's SimplicialLLT
+  Auto,     ///< by the factor's density: Block when sparse, CHOLMOD when dense (if available)
+  Eigen,    ///< Eigen's SimplicialLLT (scalar, up-looking)
   Cholmod,  ///< SuiteSparse CHOLMOD (supernodal); InvalidArgument if rove was built without it
+  Block,    ///< rove's left-looking Cholesky on dense pose-sized blocks (3×3 or 6×6)
 };
 
 /// Why an optimization stopped.
@@ -119,7 +120,7 @@ struct GraphOptimizerResult {
   std::vector<GraphIteration> history;  ///< one entry per iteration
   GraphTiming timing;
   std::vector<GraphIssue> issues;       ///< offending edges/vertices on failure
-  LinearSolverType linear_solver = LinearSolverType::Eigen;  ///< back-end used
+  LinearSolverType linear_solver = LinearSolverType::Block;  ///< back-end used
   std::size_t num_edges_used = 0;       ///< edges of the chosen level
   std::size_t num_vertices_optimized = 0;
   std::size_t num_vertices_fixed = 0;   ///< anchors touching the edges used
