@@ -126,6 +126,17 @@ void BlockCholesky<D>::analyze(const Matrix& upper) {
       if (br == bc && r != c) scatter_mirror_[static_cast<std::size_t>(e)] = base + (c % D) * D + (r % D);
     }
   }
+  // Blocks that the scatter does not overwrite entry by entry: the fill-in,
+  // and any block of A stored only in part. Only these are zeroed before a
+  // factorization.
+  std::vector<int> covered(rowind_.size(), 0);
+  for (std::size_t e = 0; e < nnz; ++e) {
+    ++covered[static_cast<std::size_t>(scatter_[e] / (D * D))];
+    if (scatter_mirror_[e] >= 0) ++covered[static_cast<std::size_t>(scatter_mirror_[e] / (D * D))];
+  }
+  fill_blocks_.clear();
+  for (std::size_t q = 0; q < covered.size(); ++q)
+    if (covered[q] != D * D) fill_blocks_.push_back(static_cast<int>(q));
   head_.assign(n, -1);
   chain_.assign(n, -1);
   cursor_.assign(n, 0);
@@ -135,7 +146,7 @@ void BlockCholesky<D>::analyze(const Matrix& upper) {
 template <int D>
 std::optional<long> BlockCholesky<D>::factorize(const Matrix& upper) {
   ROVE_CHECK_EQ(static_cast<std::size_t>(upper.nonZeros()), scatter_.size());
-  std::fill(values_.begin(), values_.end(), 0.0);
+  for (int q : fill_blocks_) std::fill_n(values_.begin() + static_cast<std::ptrdiff_t>(q) * D * D, D * D, 0.0);
   const double* a = upper.valuePtr();
   for (std::size_t e = 0; e < scatter_.size(); ++e) {
     values_[static_cast<std::size_t>(scatter_[e])] = a[e];

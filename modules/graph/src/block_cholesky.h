@@ -45,6 +45,7 @@ class BlockCholesky {
   std::vector<double> values_;   // per block: D×D column-major; diagonal blocks hold L_jj⁻¹
   std::vector<int> scatter_;     // per entry of `upper`: its index in values_ (of Lᵀ's side)
   std::vector<int> scatter_mirror_;  // same for the mirrored entry of a diagonal block, or -1
+  std::vector<int> fill_blocks_;     // blocks of L that A's entries do not cover whole (zeroed)
   // Factorization workspace, per block column: first of the columns waiting
   // to update it, the next in that list, the next block of a column still to
   // be applied, and the block of the current column holding a given row.

@@ -560,6 +560,8 @@ GraphOptimizerResult Engine<PoseT>::run() {
   double nu = 2.0;
   double radius = options_.initial_trust_radius;
   Eigen::VectorXd delta, gn_step, sd_step;
+  double sd_alpha = 0.0, g_h_g = 0.0;  // dog-leg: sd_step = −sd_alpha·g; gᵀHg
+  bool gn_exact = true;                // dog-leg: H δ_gn = −g (no damping was needed)
   bool have_gn = false;
   std::vector<PoseT> trial;
   result.termination = GraphTermination::MaxIterations;
@@ -617,6 +619,7 @@ GraphOptimizerResult Engine<PoseT>::run() {
     } else {
       if (!have_gn) {
         bool ok = factorize_damped(0.0);
+        gn_exact = ok;
         for (double mu = 1e-10; !ok && mu <= 1e-2; mu *= 100.0) ok = factorize_damped(mu);
         if (ok) solver_->solve(-g_, gn_step);
         if (!ok || !gn_step.allFinite()) {
@@ -627,28 +630,39 @@ GraphOptimizerResult Engine<PoseT>::run() {
           if (!result.issues.empty()) result.message += ": " + result.issues.front().message;
           break;
         }
-        const Eigen::VectorXd Hg = multiply_h(g_);
-        const double gHg = g_.dot(Hg);
-        const double alpha = gHg > 0.0 ? g_.squaredNorm() / gHg : 0.0;
-        sd_step = -alpha * g_;
+        g_h_g = g_.dot(multiply_h(g_));
+        sd_alpha = g_h_g > 0.0 ? g_.squaredNorm() / g_h_g : 0.0;
+        sd_step = -sd_alpha * g_;
         have_gn = true;
         result.timing.factorize += phase.lap();
       }
       rec.damping = radius;
+      // Model decrease −(2gᵀδ + δᵀHδ). Every candidate δ is a combination
+      // of g and the Gauss–Newton step (H δ_gn = −g), so δᵀHδ follows from
+      // gᵀHg, formed once per factorization: no product with H per step
+      // (unless δ_gn came from a damped system, where H δ_gn ≠ −g).
       const double gn_norm = gn_step.norm();
+      const double sd_coef = -sd_alpha;  // sd_step = sd_coef·g
       if (gn_norm <= radius) {
         delta = gn_step;
+        predicted = -g_.dot(gn_step);
       } else if (sd_step.norm() >= radius) {
-        delta = -(radius / g_.norm()) * g_;
+        const double t = -radius / g_.norm();  // δ = t·g
+        delta = t * g_;
+        predicted = -(2.0 * t * g_.squaredNorm() + t * t * g_h_g);
       } else {
         const Eigen::VectorXd d = gn_step - sd_step;
         const double c = sd_step.dot(d), dd = d.squaredNorm();
         const double beta =
             (-c + std::sqrt(c * c + dd * (radius * radius - sd_step.squaredNorm()))) / dd;
         delta = sd_step + beta * d;
+        // δ = (1 − β)·sd_coef·g + β·δ_gn, Hδ = (1 − β)·sd_coef·Hg − β·g.
+        const double a = (1.0 - beta) * sd_coef;
+        const double dHd = a * a * g_h_g - 2.0 * a * beta * g_.squaredNorm() +
+                           beta * beta * (-g_.dot(gn_step));
+        predicted = -(2.0 * g_.dot(delta) + dHd);
       }
-      const Eigen::VectorXd Hd = multiply_h(delta);
-      predicted = -(2.0 * g_.dot(delta) + delta.dot(Hd));
+      if (!gn_exact) predicted = -(2.0 * g_.dot(delta) + delta.dot(multiply_h(delta)));
       result.timing.factorize += phase.lap();
     }
 
