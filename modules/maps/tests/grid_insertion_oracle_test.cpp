@@ -177,6 +177,38 @@ Scans rawlog_scans(const std::string& file) {
   return out;
 }
 
+// If the grid's saturation summary is current, every block it flags as
+// saturated must hold only cells at the free limit. Returns the number of
+// flagged blocks (0 when the summary is not current).
+template <GridCell Cell>
+std::size_t expect_summary_sound(OccupancyGridT<Cell>& g) {
+  const GridSaturationSummary& s = g.saturation_summary();
+  if (s.revision != g.revision()) return 0;
+  constexpr int kB = GridSaturationSummary::kBlock;
+  EXPECT_EQ(s.blocks_x, (g.size_x() + kB - 1) / kB);
+  EXPECT_EQ(s.blocks_y, (g.size_y() + kB - 1) / kB);
+  EXPECT_EQ(s.blocks.size(), std::size_t{s.blocks_x} * s.blocks_y);
+  std::size_t flagged = 0;
+  for (std::uint32_t by = 0; by < s.blocks_y; ++by) {
+    for (std::uint32_t bx = 0; bx < s.blocks_x; ++bx) {
+      if (s.blocks[bx + std::size_t{by} * s.blocks_x] != GridSaturationSummary::kFull) continue;
+      ++flagged;
+      for (std::uint32_t y = by * kB; y < std::min<std::uint32_t>(g.size_y(), (by + 1) * kB); ++y) {
+        for (std::uint32_t x = bx * kB; x < std::min<std::uint32_t>(g.size_x(), (bx + 1) * kB);
+             ++x) {
+          if (g.cells()[g.index(static_cast<int>(x), static_cast<int>(y))] !=
+              LogOddsTraits<Cell>::kMax) {
+            ADD_FAILURE() << "block (" << bx << ", " << by << ") flagged but cell (" << x << ", "
+                          << y << ") is not saturated";
+            return flagged;
+          }
+        }
+      }
+    }
+  }
+  return flagged;
+}
+
 // Inserts every scan into two grids, one by insert_scan and one by the
 // oracle, and compares all cells after every 8th scan and at the end.
 template <GridCell Cell>
@@ -189,7 +221,13 @@ void expect_same_as_oracle(const Scans& scans, const std::vector<Pose3>& poses, 
     oracle_insert(slow, *scans[i], poses[i], opt);
     if (i % 8 == 7 || i + 1 == scans.size()) {
       ASSERT_TRUE(fast == slow) << "after scan " << i << " of " << scans.size();
+      expect_summary_sound(fast);
     }
+  }
+  // The real scans saturate large areas of 8-bit grids (16-bit cells need
+  // hundreds of free updates): the summary's skips were taken.
+  if constexpr (sizeof(Cell) == 1) {
+    EXPECT_GT(expect_summary_sound(fast), 0u);
   }
 }
 
@@ -268,6 +306,165 @@ TEST(GridInsertionOracle, RandomScansEqualStraightforwardLoop) {
       ASSERT_TRUE(fast16 == slow16) << "trial " << trial << " scan " << k;
     }
   }
+}
+
+// Scans that saturate the area around the origin: long rays (most cut at
+// max_distance_insertion, so few occupied cells) from poses near (x, y).
+RangeScan2D saturating_scan(std::mt19937& rng, float hit_fraction) {
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  RangeScan2D scan;
+  scan.aperture = 2.0 * 3.14159265358979;
+  std::vector<float> ranges(720);
+  for (float& r : ranges) r = u01(rng) < hit_fraction ? 0.5f + 2.0f * u01(rng) : 50.0f;
+  scan.set_ranges(ranges);
+  return scan;
+}
+
+Pose2 near(std::mt19937& rng, double x, double y) {
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  return Pose2(x + u(rng), y + u(rng), 10.0 * u(rng));
+}
+
+template <GridCell Cell>
+void insert_both(OccupancyGridT<Cell>& fast, OccupancyGridT<Cell>& slow, const RangeScan2D& scan,
+                 const Pose2& pose, const GridInsertionOptions& opt) {
+  ASSERT_TRUE(insert_scan(fast, scan, pose, opt).inserted());
+  oracle_insert(slow, scan, Pose3(pose), opt);
+  ASSERT_TRUE(fast == slow);
+  expect_summary_sound(fast);
+}
+
+// Many scans over the same area: blocks become saturated and stay flagged
+// across scans, while some rays end (occupied) inside flagged blocks.
+template <GridCell Cell>
+void saturated_blocks_across_scans(const GridInsertionOptions& opt) {
+  std::mt19937 rng(7);
+  OccupancyGridT<Cell> fast(-4, 4, -4, 4, 0.05f), slow(-4, 4, -4, 4, 0.05f);
+  for (int k = 0; k < 60; ++k) {
+    SCOPED_TRACE(k);
+    insert_both(fast, slow, saturating_scan(rng, k < 40 ? 0.0f : 0.2f), near(rng, 0, 0), opt);
+    if (k == 39) {
+      EXPECT_GT(expect_summary_sound(fast), sizeof(Cell) == 1 ? 100u : 2u);
+    }
+  }
+  EXPECT_GT(expect_summary_sound(fast), sizeof(Cell) == 1 ? 5u : 2u);
+}
+
+TEST(GridInsertionOracle, SaturatedBlocksAcrossScans) {
+  GridInsertionOptions opt;
+  opt.max_distance_insertion = 3.0f;
+  saturated_blocks_across_scans<std::int8_t>(opt);
+  saturated_blocks_across_scans<std::int8_t>(unequal_strengths());
+  opt.max_freeness_update_certainty = 0.999f;  // 16-bit cells saturate sooner
+  opt.max_freeness_invalid_ranges = 0.99f;
+  saturated_blocks_across_scans<std::int16_t>(opt);
+}
+
+// The grid grows between scans (cells move by whole cells that are not
+// whole blocks): the summary is rebuilt, never reused at the old layout.
+TEST(GridInsertionOracle, SaturatedBlocksWithGrowthBetweenScans) {
+  std::mt19937 rng(11);
+  GridInsertionOptions opt;
+  opt.max_distance_insertion = 3.0f;
+  OccupancyGrid fast(-5.05f, 5, -5.15f, 5, 0.05f), slow(-5.05f, 5, -5.15f, 5, 0.05f);
+  for (int k = 0; k < 30; ++k) {
+    SCOPED_TRACE(k);
+    insert_both(fast, slow, saturating_scan(rng, 0.0f), near(rng, 0, 0), opt);
+  }
+  const std::uint32_t sx = fast.size_x();
+  insert_both(fast, slow, saturating_scan(rng, 0.1f), near(rng, -2.5, -2.7), opt);
+  ASSERT_GT(fast.size_x(), sx);  // it grew
+  for (int k = 0; k < 20; ++k) {
+    SCOPED_TRACE(k);
+    insert_both(fast, slow, saturating_scan(rng, 0.1f), near(rng, k % 2 ? 0.0 : -2.0, 0), opt);
+  }
+  EXPECT_GT(expect_summary_sound(fast), 0u);
+}
+
+// An occupied update at a cell of a saturated block clears the block's
+// flag, so later rays through that cell update it again.
+TEST(GridInsertionOracle, OccupiedHitInsideSaturatedBlock) {
+  std::mt19937 rng(5);
+  GridInsertionOptions opt;
+  opt.max_distance_insertion = 3.0f;
+  OccupancyGrid fast(-4, 4, -4, 4, 0.05f), slow(-4, 4, -4, 4, 0.05f);
+  for (int k = 0; k < 40; ++k) insert_both(fast, slow, saturating_scan(rng, 0.0f), near(rng, 0, 0), opt);
+  const GridSaturationSummary& sum = fast.saturation_summary();
+  ASSERT_EQ(sum.revision, fast.revision());
+  // A flagged block about 1 m east of the origin, and a one-ray scan that
+  // ends at its center cell.
+  const int cx = fast.x_to_idx(1.0), cy = fast.y_to_idx(0.0);
+  constexpr int kB = GridSaturationSummary::kBlock;
+  const int bx = cx / kB, by = cy / kB;
+  ASSERT_EQ(sum.blocks[static_cast<std::size_t>(bx) + static_cast<std::size_t>(by) * sum.blocks_x],
+            GridSaturationSummary::kFull);
+  const int hx = bx * kB + kB / 2, hy = by * kB + kB / 2;
+  const double wx = fast.idx_to_x(static_cast<std::size_t>(hx));
+  const double wy = fast.idx_to_y(static_cast<std::size_t>(hy));
+  RangeScan2D hit;
+  hit.aperture = 1e-6;
+  hit.set_ranges(std::vector<float>{static_cast<float>(std::hypot(wx, wy))});
+  const Pose2 origin(0.0, 0.0, std::atan2(wy, wx));
+  insert_both(fast, slow, hit, origin, opt);
+  ASSERT_LT(fast.cell(hx, hy), LogOddsTraits<std::int8_t>::kMax);
+  // Rays through the hit cell free it again, one step per scan.
+  for (int k = 0; k < 10; ++k) {
+    SCOPED_TRACE(k);
+    insert_both(fast, slow, saturating_scan(rng, 0.0f), Pose2(0.0, 0.0, 0.001 * k), opt);
+  }
+}
+
+// Every other way of writing cells makes the summary stale, so the next
+// insertion does not skip the cells that were changed.
+TEST(GridInsertionOracle, ExternalWritesInvalidateSummary) {
+  GridInsertionOptions opt;
+  opt.max_distance_insertion = 3.0f;
+  const auto saturated = [&](std::mt19937& rng, OccupancyGrid& fast, OccupancyGrid& slow) {
+    fast = OccupancyGrid(-4, 4, -4, 4, 0.05f);
+    slow = fast;
+    for (int k = 0; k < 40; ++k) insert_both(fast, slow, saturating_scan(rng, 0.0f), near(rng, 0, 0), opt);
+    ASSERT_GT(expect_summary_sound(fast), 100u);
+  };
+  // Cells 1 m east of the origin (inside saturated blocks).
+  const auto write = [](OccupancyGrid& g, int kind) {
+    const int cx = g.x_to_idx(1.0), cy = g.y_to_idx(0.0);
+    switch (kind) {
+      case 0: g.set_cell(cx, cy, 0); break;
+      case 1: g.set_free_probability(cx + 1, cy, 0.2f); break;
+      case 2: g.update_cell(cx, cy + 1, 0.1f); break;
+      case 3: g.mutable_cells()[g.index(cx - 1, cy)] = -20; break;
+      case 4: g.fill(0.5f); break;
+      case 5:
+        g.assign(g.x_min(), g.x_max(), g.y_min(), g.y_max(), g.resolution(), g.size_x(),
+                 g.size_y(), std::vector<std::int8_t>(g.cells().size(), 0));
+        break;
+      default: g.set_size(-4, 4, -4, 4, 0.05f); break;
+    }
+  };
+  for (int kind = 0; kind < 7; ++kind) {
+    SCOPED_TRACE(kind);
+    std::mt19937 rng(static_cast<unsigned>(100 + kind));
+    OccupancyGrid fast, slow;
+    saturated(rng, fast, slow);
+    write(fast, kind);
+    write(slow, kind);
+    EXPECT_EQ(expect_summary_sound(fast), 0u);  // stale
+    for (int k = 0; k < 3; ++k) {
+      insert_both(fast, slow, saturating_scan(rng, 0.0f), Pose2(0.0, 0.0, 0.3 * k), opt);
+    }
+  }
+  // A copy carries the summary with the cells it describes.
+  std::mt19937 rng(3);
+  OccupancyGrid fast, slow;
+  saturated(rng, fast, slow);
+  OccupancyGrid copy = fast, copy_slow = slow;
+  EXPECT_GT(expect_summary_sound(copy), 100u);
+  write(fast, 0);
+  write(slow, 0);
+  const RangeScan2D scan = saturating_scan(rng, 0.0f);
+  insert_both(copy, copy_slow, scan, Pose2(), opt);
+  insert_both(fast, slow, scan, Pose2(), opt);
+  EXPECT_FALSE(copy == fast);  // the write reached fast only
 }
 
 }  // namespace

@@ -21,6 +21,28 @@
 
 namespace rove {
 
+/// Derived state that scan insertion keeps beside a grid so that rays can
+/// skip, without reading them, blocks of cells that are all at the free
+/// limit (a free update leaves such a cell unchanged). Not part of the
+/// grid's value: copied with it, ignored by ==, and trusted only while
+/// `revision` equals the grid's revision() (see grid_insertion.cpp).
+struct GridSaturationSummary {
+  /// Per block of kBlock × kBlock cells, row by row: kFull if every cell of
+  /// the block is at the free limit, else the number of free updates made
+  /// in the block since it was last checked.
+  std::vector<std::uint8_t> blocks;
+  /// Blocks along x and y (partial blocks at the high edges included).
+  std::uint32_t blocks_x = 0, blocks_y = 0;
+  /// Grid revision at which `blocks` was last known to be right.
+  std::uint64_t revision = ~std::uint64_t{0};
+  /// log2 of the block side, cells.
+  static constexpr int kLogBlock = 3;
+  /// Block side, cells.
+  static constexpr int kBlock = 1 << kLogBlock;
+  /// Marker of a saturated block in `blocks`.
+  static constexpr std::uint8_t kFull = 0xff;
+};
+
 /// A 2D occupancy grid of log-odds cells of type Cell (int8 or int16).
 /// Thread-safety: thread-compatible (concurrent const calls are safe).
 template <GridCell Cell>
@@ -106,6 +128,8 @@ class OccupancyGridT {
   /// All cells, row by row.
   std::span<const Cell> cells() const noexcept { return cells_; }
   /// Mutable access to all cells (counts as a modification, see revision()).
+  /// Write through the span only before the next call that modifies the
+  /// grid (insert_scan relies on revision() to know what changed).
   std::span<Cell> mutable_cells() noexcept {
     ++revision_;
     return cells_;
@@ -142,6 +166,10 @@ class OccupancyGridT {
   /// Marks the grid as holding data (or not).
   void set_empty(bool empty) noexcept { empty_ = empty; }
 
+  /// The saturation summary kept by scan insertion (internal; reading or
+  /// changing it does not change the cells or the revision).
+  GridSaturationSummary& saturation_summary() noexcept { return summary_; }
+
   /// Index of cell (cx, cy) in cells(). No bounds check.
   std::size_t index(int cx, int cy) const noexcept {
     return static_cast<std::size_t>(cx) + static_cast<std::size_t>(cy) * size_x_;
@@ -174,6 +202,7 @@ class OccupancyGridT {
   float resolution_ = 0;
   std::uint64_t revision_ = 0;
   bool empty_ = true;
+  GridSaturationSummary summary_;
 };
 
 /// The default grid: 8-bit cells (as MRPT's default build).
