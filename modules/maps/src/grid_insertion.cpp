@@ -165,12 +165,13 @@ void free_rows(Cell* data, std::ptrdiff_t n_cells, std::ptrdiff_t sx, std::ptrdi
 #endif
 
 // The saturation summary (GridSaturationSummary): per block of kB × kB
-// cells, a flag "every cell is at kMax" or a count of free updates since the
-// block was last checked. A free update leaves a cell at kMax unchanged
-// (v < thres ? v + obs : kMax with thres < kMax), so a ray may skip a flagged
-// block without reading it; an occupied update clears its block's flag. A
-// block is checked when its count reaches kCheck (one 8- or 16-byte compare
-// per row), so the checks cost about one compare per kB free updates.
+// cells, a flag "every cell is at kMax" or a count of the ray steps that
+// reached the block (as the first one a ray could not skip) since it was
+// last checked. A free update leaves a cell at kMax unchanged (v < thres ?
+// v + obs : kMax with thres < kMax), so a ray may skip a flagged block
+// without reading it; an occupied update clears its block's flag. A block
+// is checked when its count reaches kCheck (one 8- or 16-byte compare per
+// row), about one compare per kB steps.
 using Summary = GridSaturationSummary;
 constexpr int kLB = Summary::kLogBlock;
 constexpr int kB = Summary::kBlock;

@@ -28,8 +28,8 @@ namespace rove {
 /// `revision` equals the grid's revision() (see grid_insertion.cpp).
 struct GridSaturationSummary {
   /// Per block of kBlock × kBlock cells, row by row: kFull if every cell of
-  /// the block is at the free limit, else the number of free updates made
-  /// in the block since it was last checked.
+  /// the block is at the free limit, else the number of ray steps that
+  /// reached the block since it was last checked.
   std::vector<std::uint8_t> blocks;
   /// Blocks along x and y (partial blocks at the high edges included).
   std::uint32_t blocks_x = 0, blocks_y = 0;
