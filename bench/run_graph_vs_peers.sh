@@ -63,7 +63,20 @@ ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "" || b <= 0) pri
 mb() { awk -v k="$1" 'BEGIN { if (k == "") print "-"; else printf "%.1f", k / 1024 }'; }
 
 blas=$(readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null || echo unknown)
-echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'), load $(cut -d' ' -f1 /proc/loadavg); BLAS $blas; rove and Ceres: $solver"
+# rove sets OPENBLAS_CORETYPE from the CPU's instruction sets when the user
+# has not (OpenBLAS 0.3.21 falls back to SSE3 kernels on CPUs newer than it
+# knows; see modules/graph/src/sparse_cholesky.cpp). Ceres gets the same
+# setting here, so both factorize with the same kernels.
+if [ -z "${OPENBLAS_CORETYPE:-}" ]; then
+  flags=$(grep -m1 '^flags' /proc/cpuinfo)
+  has() { case " $flags " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
+  if has avx512f && has avx512bw && has avx512dq && has avx512vl; then
+    export OPENBLAS_CORETYPE=SkylakeX
+  elif has avx2 && has fma; then
+    export OPENBLAS_CORETYPE=Haswell
+  fi
+fi
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'), load $(cut -d' ' -f1 /proc/loadavg); BLAS $blas (OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-auto}); rove and Ceres: $solver"
 printf '%-13s %-13s| %-16s %-6s %-6s %-6s| %-16s %-6s %-6s %-6s| %-6s %-6s %-6s| %-13s %-13s\n' \
   dataset init "rove chi2" "s" "cpu" "MB" "ceres chi2" "s" "cpu" "MB" "mrpt s" "cpu" "MB" "ceres/rove" "mrpt/rove"
 echo "                                                                                                    (wall, cpu)   (wall, cpu)"

@@ -153,7 +153,7 @@ int run(Graph g, const GraphSlamArgs& a, int dim, double load_s) {
         "\"vertices_optimized\": {}, \"vertices_fixed\": {}, \"gauge_anchor\": {}, "
         "\"init\": \"{}\", \"solver\": \"{}\", \"linear_solver\": \"{}\", \"threads\": {}, "
         "\"initial_chi2\": {}, \"final_chi2\": {}, \"iterations\": {}, \"accepted_steps\": {}, "
-        "\"factorizations\": {}, "
+        "\"factorizations\": {}, \"reused_factorizations\": {}, \"cg_iterations\": {}, "
         "\"termination\": \"{}\", \"message\": {}, \"time_s\": {{\"load\": {}, \"init\": {}, "
         "\"setup\": {}, \"linearize\": {}, \"factorize\": {}, \"evaluate\": {}, \"optimize\": {}, "
         "\"write\": {}}}, \"hessian_nonzeros\": {}, \"factor_nonzeros\": {}, \"ground_truth_rmse\": {}, \"issues\": [{}]}}\n",
@@ -161,7 +161,7 @@ int run(Graph g, const GraphSlamArgs& a, int dim, double load_s) {
         r.num_vertices_fixed, r.gauge_anchor ? std::to_string(*r.gauge_anchor) : "null",
         to_string(init), to_string(o.solver), to_string(r.linear_solver), o.num_threads,
         r.initial_chi2, r.final_chi2, r.iterations, r.accepted_steps, r.factorizations,
-        to_string(r.termination),
+        r.reused_factorizations, r.cg_iterations, to_string(r.termination),
         json_string(r.message), load_s, init_s, r.timing.setup, r.timing.linearize,
         r.timing.factorize, r.timing.evaluate, r.timing.total, write_s, r.hessian_nonzeros,
         r.factor_nonzeros, gt ? fmt::format("{}", gt->rmse) : std::string("null"), issues);
@@ -176,8 +176,12 @@ int run(Graph g, const GraphSlamArgs& a, int dim, double load_s) {
                to_string(r.linear_solver), o.num_threads, o.num_threads == 1 ? "" : "s",
                o.robust_kernel ? ", robust " + o.robust_kernel->to_string() : std::string());
     fmt::print("chi2           {:.10g} -> {:.10g}\n", r.initial_chi2, r.final_chi2);
-    fmt::print("iterations     {} ({} accepted, {} factorizations)\n", r.iterations,
-               r.accepted_steps, r.factorizations);
+    fmt::print("iterations     {} ({} accepted, {} factorizations{})\n", r.iterations,
+               r.accepted_steps, r.factorizations,
+               r.reused_factorizations == 0
+                   ? std::string()
+                   : fmt::format(", {} steps on a reused factorization, {} CG iterations",
+                                 r.reused_factorizations, r.cg_iterations));
     fmt::print("termination    {}: {}\n", to_string(r.termination), r.message);
     fmt::print("time (s)       load {:.3f} | init {:.3f} | setup {:.3f} | linearize {:.3f} | "
                "factorize {:.3f} | evaluate {:.3f} | optimize {:.3f}\n",

@@ -9,6 +9,7 @@
 #include "rove/core/check.h"
 #include "rove/core/error.h"
 
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -56,9 +57,34 @@ void bind(void* handle, F& f, const char* name) {
   std::memcpy(&f, &sym, sizeof(f));  // object to function pointer (POSIX)
 }
 
+// OpenBLAS (the BLAS under CHOLMOD's supernodal factorization) picks its
+// kernels from the CPU model when it loads, and a model newer than it knows
+// falls back to its SSE3 kernels: Debian 12's 0.3.21 calls a 5th-generation
+// Xeon (family 6, model 207) "Prescott" and factorizes sphere2500 1.45x
+// slower than with its AVX-512 kernels. OPENBLAS_CORETYPE overrides the
+// choice; unless the user has set it, it is set here, before CHOLMOD (and
+// with it OpenBLAS) is loaded, from the instruction sets the CPU reports:
+// SkylakeX (AVX-512 F/BW/DQ/VL) or Haswell (AVX2 + FMA), which is what
+// OpenBLAS picks itself on the CPUs it recognizes. Other BLAS ignore it.
+void choose_openblas_kernels() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  if (std::getenv("OPENBLAS_CORETYPE") != nullptr) return;
+  __builtin_cpu_init();
+  const char* core = nullptr;
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl")) {
+    core = "SkylakeX";
+  } else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+    core = "Haswell";
+  }
+  if (core) setenv("OPENBLAS_CORETYPE", core, 0);
+#endif
+}
+
 const CholmodApi& cholmod_api() {
   static const CholmodApi api = [] {
     CholmodApi a;
+    choose_openblas_kernels();
     void* h = dlopen(ROVE_CHOLMOD_SONAME, RTLD_NOW | RTLD_LOCAL);
     if (!h) {
       const char* e = dlerror();
