@@ -396,6 +396,35 @@ std::size_t KdTree<Dim, Scalar>::knn(const Point& q, std::size_t k, std::span<Re
 }
 
 template <int Dim, typename Scalar>
+std::size_t KdTree<Dim, Scalar>::knn(const Point& q, std::size_t k, std::span<Result> out,
+                                     Scalar max_distance) const {
+  ROVE_CHECK_GE(out.size(), k);
+  ROVE_CHECK_GE(max_distance, Scalar(0));
+  if (k == 0 || empty() || !finite_point<Scalar, Dim>(q.data())) return 0;
+  // Admitted strictly below the bound: one ulp above max_distance² makes it
+  // "distance <= max_distance" (an infinite max_distance stays infinite).
+  const Scalar bound = std::nextafter(max_distance * max_distance, std::numeric_limits<Scalar>::infinity());
+  if (k == 1) {
+    NearestSet<Scalar> set{bound};
+    impl_->run(q.data(), set);
+    if (set.position == kNotIndexed) return 0;
+    out[0] = Result{impl_->source_of[set.position], set.worst};
+    return 1;
+  }
+  k = std::min(k, size());
+  KnnSet<Scalar> set{out.data(), k, impl_->source_of.data()};
+  set.worst = bound;
+  impl_->run(q.data(), set);
+  return set.count;
+}
+
+template <int Dim, typename Scalar>
+std::span<const std::uint32_t> KdTree<Dim, Scalar>::tree_order() const noexcept {
+  if (!impl_) return {};
+  return impl_->source_of;
+}
+
+template <int Dim, typename Scalar>
 std::vector<Neighbor<Scalar>> KdTree<Dim, Scalar>::knn(const Point& q, std::size_t k) const {
   std::vector<Result> out(std::min(k, size()));
   out.resize(knn(q, out.size(), out));

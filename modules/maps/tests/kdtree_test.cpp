@@ -108,6 +108,19 @@ void random_check(std::size_t n, std::size_t leaf, unsigned seed, bool with_nans
     std::sort(got_idx.begin(), got_idx.end());
     std::sort(want.begin(), want.end());
     EXPECT_EQ(got_idx, want);
+    // k-nearest within a distance: the brute-force ones inside r, at most k
+    for (std::size_t k : {1u, 5u, 20u}) {
+      std::vector<Neighbor<Scalar>> inside;
+      for (auto& a : all)
+        if (a.sq_distance <= r * r) inside.push_back(a);
+      std::vector<Neighbor<Scalar>> buf(k);
+      buf.resize(tree.knn(q, k, buf, r));
+      expect_same_knn(buf, inside, k);
+      // an infinite bound is the unbounded search
+      buf.assign(k, {});
+      buf.resize(tree.knn(q, k, buf, std::numeric_limits<Scalar>::infinity()));
+      expect_same_knn(buf, all, k);
+    }
     // nearest within a distance
     auto within = tree.nearest(q, r);
     if (all[0].sq_distance <= r * r) {
@@ -157,6 +170,27 @@ void degenerate_check(const std::vector<Eigen::Matrix<Scalar, 3, 1>>& pts, std::
     EXPECT_EQ(unsorted, sorted);
   }
   for (std::size_t i = 0; i < pts.size(); i += 37) EXPECT_EQ(tree.indexed_point(static_cast<std::uint32_t>(i)), pts[i]);
+}
+
+TEST(KdTree, TreeOrderIsAPermutationOfTheIndexedPoints) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-5, 5);
+  std::vector<Eigen::Vector3f> pts(500);
+  for (auto& p : pts) p = {u(rng), u(rng), u(rng)};
+  pts[17].x() = std::numeric_limits<float>::quiet_NaN();
+  KdTree3f tree(pts, KdTreeOptions{8});
+  std::vector<std::uint32_t> order(tree.tree_order().begin(), tree.tree_order().end());
+  ASSERT_EQ(order.size(), 499u);
+  // Consecutive points in tree order are much closer than in input order.
+  double step_tree = 0, step_input = 0;
+  for (std::size_t i = 1; i < order.size(); ++i) step_tree += (pts[order[i]] - pts[order[i - 1]]).norm();
+  for (std::size_t i = 19; i < pts.size(); ++i) step_input += (pts[i] - pts[i - 1]).norm();
+  EXPECT_LT(step_tree, 0.5 * step_input);
+  std::sort(order.begin(), order.end());
+  for (std::uint32_t i = 0, j = 0; i < 500; ++i) {
+    if (i == 17) continue;
+    EXPECT_EQ(order[j++], i);
+  }
 }
 
 TEST(KdTree, PointsOnAPlaneMatchBruteForce) {

@@ -161,7 +161,11 @@ void find_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   const float gate = static_cast<float>(max_dist);
-  detail::parallel_for(source.size(), team, [&](std::size_t i) {
+  // Source points in their tree's order: consecutive queries are close in
+  // space, so their searches walk the same part of the target tree.
+  const std::span<const std::uint32_t> order = source.tree().tree_order();
+  detail::parallel_for(source.size(), team, [&](std::size_t k) {
+    const std::size_t i = order[k];
     const Eigen::Vector3f q = R * source.points()[i] + t;
     float bound = gate;
     if (slot[i] >= 0) {

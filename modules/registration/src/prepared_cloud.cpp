@@ -11,10 +11,15 @@
 namespace rove {
 
 namespace {
+struct Nothing {
+  Nothing& operator+=(const Nothing&) { return *this; }
+};
+// Returns the distance to the farthest of the neighbours used (0 if fewer
+// than 3 were found); `bound` limits the search (infinite: none).
 template <typename PointOf>
-void local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
-                   std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
-                   Eigen::Matrix3d* covariance);
+float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
+                    std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
+                    Eigen::Matrix3d* covariance, float bound);
 }  // namespace
 
 PreparedCloud3D::PreparedCloud3D() = default;
@@ -38,10 +43,32 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
   // The tree indexes every point of points_ (all finite), so a neighbour's
   // index is its position in points_.
   const auto point = [this](std::uint32_t j) -> const Eigen::Vector3f& { return points_[j]; };
-  detail::parallel_for(points_.size(), options.num_threads, [&](std::size_t i) {
-    local_surface(tree_, point, points_[i], options.neighbors, options.gicp_epsilon,
-                     options.normals ? &normals_[i] : nullptr,
-                     options.covariances ? &covariances_[i] : nullptr);
+  // Points are visited in the tree's order, so consecutive queries are
+  // close in space, and each search is bounded by what the previous one
+  // found: the k neighbours of p, within r of it, are within r + |q − p| of
+  // q, so q's k nearest all lie in that ball and the search needs to look
+  // nowhere else (the same neighbours as an unbounded search, but for which
+  // of several points tied at the k-th distance is kept; far fewer nodes
+  // visited). Blocks of the order run in parallel, each from an
+  // unbounded first search, so the results do not depend on the threads.
+  const std::span<const std::uint32_t> order = tree_.tree_order();
+  const std::size_t k = std::min(options.neighbors, points_.size());
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  detail::parallel_reduce(order.size(), options.num_threads, Nothing{},
+                          [&](std::size_t begin, std::size_t end, Nothing&) {
+    float reach = kInf;  // previous query's farthest neighbour, meters
+    Eigen::Vector3f prev = Eigen::Vector3f::Zero();
+    for (std::size_t t = begin; t < end; ++t) {
+      const std::uint32_t i = order[t];
+      const Eigen::Vector3f& q = points_[i];
+      // A hair above, so rounding cannot drop a neighbour on the sphere.
+      const float bound =
+          reach == kInf ? kInf : (reach + (q - prev).norm()) * (1 + 1e-5f) + 1e-6f;
+      reach = local_surface(tree_, point, q, k, options.gicp_epsilon,
+                            options.normals ? &normals_[i] : nullptr,
+                            options.covariances ? &covariances_[i] : nullptr, bound);
+      prev = q;
+    }
   });
 }
 
@@ -50,9 +77,9 @@ namespace {
 /// local_surface_3d with the neighbours' coordinates read through `point`
 /// (source index → coordinates).
 template <typename PointOf>
-void local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
-                   std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
-                   Eigen::Matrix3d* covariance) {
+float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
+                    std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
+                    Eigen::Matrix3d* covariance, float bound) {
   constexpr std::size_t kMaxK = 64;
   Neighbor<float> buf[kMaxK];
   std::vector<Neighbor<float>> big;
@@ -61,12 +88,14 @@ void local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vect
     big.resize(k);
     nn = big;
   }
-  const std::size_t m = tree.knn(query, k, nn);
+  std::size_t m = std::isfinite(bound) ? tree.knn(query, k, nn, bound) : tree.knn(query, k, nn);
+  if (m < std::min(k, tree.size())) m = tree.knn(query, k, nn);  // the bound was too tight
   if (m < 3) {
     if (normal) normal->setZero();
     if (covariance) *covariance = Eigen::Matrix3d::Identity();
-    return;
+    return std::numeric_limits<float>::infinity();
   }
+  const float reach = std::sqrt(nn[m - 1].sq_distance);
   // Moments about the query point: the sums stay small, so the covariance
   // keeps its precision far from the origin.
   const Eigen::Vector3d origin = query.cast<double>();
@@ -95,6 +124,7 @@ void local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vect
       *covariance = Eigen::Matrix3d::Identity() - (1.0 - gicp_epsilon) * v * v.transpose();
     }
   }
+  return reach;
 }
 
 }  // namespace
@@ -102,7 +132,7 @@ void local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vect
 void local_surface_3d(const KdTree3f& tree, const Eigen::Vector3f& query, std::size_t k,
                       double gicp_epsilon, Eigen::Vector3f* normal, Eigen::Matrix3d* covariance) {
   local_surface(tree, [&](std::uint32_t i) { return tree.indexed_point(i); }, query, k,
-                gicp_epsilon, normal, covariance);
+                gicp_epsilon, normal, covariance, std::numeric_limits<float>::infinity());
 }
 
 }  // namespace rove

@@ -79,6 +79,27 @@ TEST(Icp3d, ParallelEqualsSerial) {
   EXPECT_EQ(a.information, b.information);
 }
 
+// Normals and covariances are computed in the tree's order with each search
+// bounded by the previous one; they must be exactly those of an unbounded
+// search per point (k = 10 and 20; a noisy scene, so no ties at the k-th
+// distance, where either neighbour set would be right).
+TEST(PreparedCloud3D, BoundedSearchesGiveTheUnboundedSurfaces) {
+  const auto scene = test::as_seen_from(test::room_3d(0.12), Eigen::Isometry3d::Identity(), 0.01, 5);
+  for (std::size_t k : {10u, 20u}) {
+    PrepareOptions o = full();
+    o.neighbors = k;
+    const PreparedCloud3D cloud(scene, o);
+    ASSERT_EQ(cloud.size(), scene.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      Eigen::Vector3f n;
+      Eigen::Matrix3d c;
+      local_surface_3d(cloud.tree(), cloud.points()[i], k, o.gicp_epsilon, &n, &c);
+      ASSERT_EQ(cloud.normals()[i], n) << "point " << i << ", k " << k;
+      ASSERT_EQ(cloud.covariances()[i], c) << "point " << i << ", k " << k;
+    }
+  }
+}
+
 TEST(Icp3d, BadInputs) {
   const auto scene = test::room_3d(0.3);
   const PreparedCloud3D target(scene, full());

@@ -113,6 +113,21 @@ class KdTree {
   std::size_t knn(const Point& q, std::size_t k, std::span<Result> out) const;
   /// As above, returned in a new vector.
   std::vector<Result> knn(const Point& q, std::size_t k) const;
+  /// The min(k, size()) nearest points to q among those within
+  /// `max_distance` meters of it (inclusive), nearest first, written to the
+  /// front of `out`; returns how many were written (fewer than k when fewer
+  /// lie within max_distance). When it returns k, the same distances as the
+  /// unbounded knn(), and the same points but for which of several tied at
+  /// the k-th distance is kept; a good bound only prunes more of the tree.
+  /// Preconditions: out.size() >= k, max_distance >= 0 (may be
+  /// infinite).
+  std::size_t knn(const Point& q, std::size_t k, std::span<Result> out, Scalar max_distance) const;
+
+  /// The source indices of the indexed points in the tree's storage order:
+  /// points that are close in this order are close in space (every leaf is
+  /// a consecutive run). Visiting queries in this order gives consecutive
+  /// searches overlapping paths and neighbourhoods.
+  std::span<const std::uint32_t> tree_order() const noexcept;
 
   /// Every indexed point within `radius` meters of q (distance <= radius),
   /// replacing the contents of `out`; nearest first when `sorted`. Returns
