@@ -93,7 +93,12 @@ struct GraphOptimizerOptions {
   /// Gauss–Newton step is kept, only the trust radius shrinks), where LM
   /// refactorizes with a larger λ (intel_carlone: 5 factorizations vs 61).
   GraphSolver solver = GraphSolver::DogLeg;
-  LinearSolverType linear_solver = LinearSolverType::Auto;  ///< Cholesky back-end
+  /// Cholesky back-end. The first problem that uses CHOLMOD loads it (and
+  /// its BLAS); before that, unless OPENBLAS_CORETYPE is set, rove sets it
+  /// (setenv) to the OpenBLAS kernels the CPU supports (docs/graph-slam.md).
+  /// A program that reads its environment from other threads at that moment
+  /// should set the variable itself beforehand.
+  LinearSolverType linear_solver = LinearSolverType::Auto;
   int max_iterations = 100;          ///< linear solves at most (≥ 0)
   double function_tolerance = 1e-8;  ///< stop when a step changes χ² by ≤ this × χ² (an accepted
                                      ///< step is kept; as Ceres' function_tolerance)
