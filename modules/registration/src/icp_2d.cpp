@@ -153,6 +153,10 @@ struct Matching {
   /// closest pair so far (kNone when untouched). Sized once per icp_2d call
   /// and reset entry by entry, so a pairing costs O(pairs), not O(target).
   std::vector<std::uint32_t> best_of_target;
+  /// Per source point, its nearest target point at the last pairing that
+  /// considered it (kNone: none yet). Its distance bounds the next search
+  /// (see match_range). Sized once per icp_2d call.
+  std::vector<std::uint32_t> last_partner;
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 };
 
@@ -163,8 +167,10 @@ std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector
                         const Eigen::Vector2d& pivot, double thr,
                         double thr_ang, std::size_t offset, std::size_t decimation,
                         bool only_closest, std::size_t b, std::size_t e,
-                        std::vector<Pair2>& pairs, std::vector<Neighbor<double>>& nbrs) {
+                        std::vector<Pair2>& pairs, std::vector<Neighbor<double>>& nbrs,
+                        std::uint32_t* last_partner) {
   std::size_t with_pair = 0;
+  const auto& tp = target.points();
   for (std::size_t k = b; k < e; ++k) {
     const std::size_t i = offset + k * decimation;
     const Eigen::Vector2d& p = source[i];
@@ -173,8 +179,21 @@ std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector
     const double gate = thr_ang * (q - pivot).norm() + thr;
     if (only_closest) {
       // The search is bounded by the gate (inclusive); the gate itself is
-      // strict, as MRPT's.
-      const auto nn = target.tree().nearest(q, gate);
+      // strict, as MRPT's. Between ICP iterations the pose moves little, so
+      // the point's previous partner is still near: its distance (a hair
+      // above) bounds the search much tighter and prunes most of the tree.
+      // The nearest point within that bound is the nearest within the gate
+      // (the partner itself is inside), the same point the gate-bounded
+      // search returns, ties included (same visiting order).
+      double bound = gate;
+      std::uint32_t& lp = last_partner[i];
+      if (lp != Matching::kNone) {
+        const double d = (q - tp[lp]).norm();
+        if (d < gate) bound = std::min(gate, d * (1 + 1e-9) + 1e-12);
+      }
+      auto nn = target.tree().nearest(q, bound);
+      if (!nn && bound < gate) nn = target.tree().nearest(q, gate);
+      lp = nn ? nn->index : Matching::kNone;
       if (nn && nn->sq_distance < gate * gate) {
         pairs.push_back({static_cast<std::uint32_t>(i), nn->index, nn->sq_distance});
         ++with_pair;
@@ -208,12 +227,14 @@ void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, c
   out.sources_considered = n_sel;
   const double c = std::cos(T.phi()), s = std::sin(T.phi());
   const Eigen::Vector2d t = T.translation();
+  if (out.last_partner.size() != n) out.last_partner.assign(n, Matching::kNone);
+  std::uint32_t* last = out.last_partner.data();
   if (threads <= 1 || n_sel <= detail::kReduceBlock) {
     // Serial: straight into out.pairs, whose capacity is reused across
     // iterations (no allocation once warm).
     std::vector<Neighbor<double>> nbrs;
     out.sources_with_pair = match_range(target, source, c, s, t, pivot, thr, thr_ang, offset,
-                                        decimation, only_closest, 0, n_sel, out.pairs, nbrs);
+                                        decimation, only_closest, 0, n_sel, out.pairs, nbrs, last);
   } else {
     struct Acc {
       std::vector<Pair2> pairs;
@@ -228,7 +249,7 @@ void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, c
                                       [&](std::size_t b, std::size_t e, Acc& a) {
       std::vector<Neighbor<double>> nbrs;
       a.with_pair += match_range(target, source, c, s, t, pivot, thr, thr_ang, offset, decimation,
-                                 only_closest, b, e, a.pairs, nbrs);
+                                 only_closest, b, e, a.pairs, nbrs, last);
     });
     out.sources_with_pair = acc.with_pair;
     out.pairs.assign(acc.pairs.begin(), acc.pairs.end());
