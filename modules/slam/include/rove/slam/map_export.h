@@ -52,7 +52,8 @@ struct PointsImageOptions {
 
 /// Draws the points (x, y; dark gray on white) and the path (red, the
 /// start in green, the end in blue) seen from above, +x right, +y up, into
-/// an RGB PNG. Throws IoError if the file cannot be written and
+/// an 8-bit palette PNG (white, dark gray (40, 40, 40), red (220, 30, 30),
+/// green (0, 170, 0), blue (0, 0, 220)). Throws IoError if the file cannot be written and
 /// InvalidArgument on bad options.
 void render_points_png(const std::string& path, const PointCloud& cloud,
                        const std::vector<Pose2>& robot_path,
