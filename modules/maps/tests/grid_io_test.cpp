@@ -24,8 +24,14 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kData = ROVE_SOURCE_DIR "/modules/maps/tests/data/";
 
+// A fresh directory of this test's own: ctest runs the tests of this file
+// as separate processes at once, so the name carries the test's name (a
+// shared "hand" directory let the HandWrittenRosMap cases overwrite each
+// other's map.yaml).
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rove_grid_io_" + name);
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string test = info ? std::string(info->test_suite_name()) + "." + info->name() : "none";
+  const fs::path d = fs::temp_directory_path() / ("rove_grid_io_" + name + "_" + test);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
