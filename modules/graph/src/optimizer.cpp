@@ -634,8 +634,8 @@ GraphOptimizerResult Engine<PoseT>::run() {
     double predicted = 0.0;
     // Reuse the last factorization (dog-leg, Gauss–Newton) when the last
     // step landed where the quadratic model said: H has barely changed.
-    const bool try_reuse = options_.reuse_factorization && stale_factor_ok_ &&
-                           reuse_pays_ &&
+    // (reuse_pays_ is false when options_.reuse_factorization is.)
+    const bool try_reuse = stale_factor_ok_ && reuse_pays_ &&
                            std::abs(last_gain_ratio - 1.0) <= options_.reuse_gain_window;
 
     if (method == GraphSolver::LevenbergMarquardt) {
@@ -684,30 +684,26 @@ GraphOptimizerResult Engine<PoseT>::run() {
       // Model decrease −(2gᵀδ + δᵀHδ); Hδ = −g when δ came from a factor.
       predicted = reused ? -(2.0 * g_.dot(delta) + delta.dot(multiply_h(delta))) : -delta.dot(g_);
     } else {
-      if (!have_gn && try_reuse && solve_with_stale_factor(gn_step, result)) {
-        // H δ_gn = −g only to the CG tolerance: the model decrease of each
-        // step is then formed with H itself (below).
-        ++result.reused_factorizations;
-        gn_exact = false;
-        g_h_g = g_.dot(multiply_h(g_));
-        sd_alpha = g_h_g > 0.0 ? g_.squaredNorm() / g_h_g : 0.0;
-        sd_step = -sd_alpha * g_;
-        have_gn = true;
-        result.timing.factorize += phase.lap();
-      }
       if (!have_gn) {
-        bool ok = factorize_damped(0.0);
-        gn_exact = ok;
-        stale_factor_ok_ = ok;
-        for (double mu = 1e-10; !ok && mu <= 1e-2; mu *= 100.0) ok = factorize_damped(mu);
-        if (ok) solver_->solve(-g_, gn_step);
-        if (!ok || !gn_step.allFinite()) {
-          result.timing.factorize += phase.lap();
-          result.termination = GraphTermination::NumericalFailure;
-          result.message = "the normal equations are singular";
-          diagnose_factorization(last_failure_column_, result);
-          if (!result.issues.empty()) result.message += ": " + result.issues.front().message;
-          break;
+        if (try_reuse && solve_with_stale_factor(gn_step, result)) {
+          // H δ_gn = −g only to the CG tolerance: the model decrease of each
+          // step is then formed with H itself (below).
+          ++result.reused_factorizations;
+          gn_exact = false;
+        } else {
+          bool ok = factorize_damped(0.0);
+          gn_exact = ok;
+          stale_factor_ok_ = ok;
+          for (double mu = 1e-10; !ok && mu <= 1e-2; mu *= 100.0) ok = factorize_damped(mu);
+          if (ok) solver_->solve(-g_, gn_step);
+          if (!ok || !gn_step.allFinite()) {
+            result.timing.factorize += phase.lap();
+            result.termination = GraphTermination::NumericalFailure;
+            result.message = "the normal equations are singular";
+            diagnose_factorization(last_failure_column_, result);
+            if (!result.issues.empty()) result.message += ": " + result.issues.front().message;
+            break;
+          }
         }
         g_h_g = g_.dot(multiply_h(g_));
         sd_alpha = g_h_g > 0.0 ? g_.squaredNorm() / g_h_g : 0.0;

@@ -394,6 +394,29 @@ std::optional<Neighbor<Scalar>> KdTree<Dim, Scalar>::nearest(const Point& q, Sca
 }
 
 template <int Dim, typename Scalar>
+std::optional<Neighbor<Scalar>> KdTree<Dim, Scalar>::nearest(const Point& q, Scalar max_distance,
+                                                            std::uint32_t hint) const {
+  ROVE_CHECK_GE(max_distance, Scalar(0));
+  if (empty() || !finite_point<Scalar, Dim>(q.data())) return std::nullopt;
+  Scalar bound = next_up(max_distance * max_distance);
+  if (hint < impl_->source_size) {
+    // The hint's distance in the search's own arithmetic: one ulp above it
+    // admits the hint, so the nearest within the bound is the nearest
+    // within max_distance (the same point, ties included: the visiting
+    // order does not change, only what is pruned).
+    const std::uint32_t pos = impl_->position_of[hint];
+    if (pos != kNotIndexed) {
+      const Scalar d = sq_distance<Dim, Scalar>(q.data(), impl_->points[pos].data());
+      if (d < bound) bound = next_up(d);
+    }
+  }
+  NearestSet<Scalar> set{bound};
+  impl_->run(q.data(), set);
+  if (set.position == kNotIndexed) return std::nullopt;
+  return Result{impl_->source_of[set.position], set.worst};
+}
+
+template <int Dim, typename Scalar>
 std::size_t KdTree<Dim, Scalar>::knn(const Point& q, std::size_t k, std::span<Result> out) const {
   ROVE_CHECK_GE(out.size(), k);
   if (k == 0 || empty() || !finite_point<Scalar, Dim>(q.data())) return 0;

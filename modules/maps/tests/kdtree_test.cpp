@@ -121,6 +121,17 @@ void random_check(std::size_t n, std::size_t leaf, unsigned seed, bool with_nans
       buf.resize(tree.knn(q, k, buf, std::numeric_limits<Scalar>::infinity()));
       expect_same_knn(buf, all, k);
     }
+    // nearest within a distance with a hint (near, far, not indexed, out of
+    // range): the same result as without
+    for (std::uint32_t hint : {all[0].index, all[all.size() / 2].index, all.back().index,
+                               std::uint32_t(n), std::uint32_t(-1)}) {
+      const auto hinted = tree.nearest(q, r, hint);
+      const auto plain = tree.nearest(q, r);
+      ASSERT_EQ(hinted.has_value(), plain.has_value()) << "hint " << hint;
+      if (plain) {
+        EXPECT_EQ(*hinted, *plain) << "hint " << hint;
+      }
+    }
     // nearest within a distance
     auto within = tree.nearest(q, r);
     if (all[0].sq_distance <= r * r) {

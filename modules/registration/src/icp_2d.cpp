@@ -170,7 +170,6 @@ std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector
                         std::vector<Pair2>& pairs, std::vector<Neighbor<double>>& nbrs,
                         std::uint32_t* last_partner) {
   std::size_t with_pair = 0;
-  const auto& tp = target.points();
   for (std::size_t k = b; k < e; ++k) {
     const std::size_t i = offset + k * decimation;
     const Eigen::Vector2d& p = source[i];
@@ -180,19 +179,10 @@ std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector
     if (only_closest) {
       // The search is bounded by the gate (inclusive); the gate itself is
       // strict, as MRPT's. Between ICP iterations the pose moves little, so
-      // the point's previous partner is still near: its distance (a hair
-      // above) bounds the search much tighter and prunes most of the tree.
-      // The nearest point within that bound is the nearest within the gate
-      // (the partner itself is inside), the same point the gate-bounded
-      // search returns, ties included (same visiting order).
-      double bound = gate;
+      // the point's previous partner, given as the hint, bounds the search
+      // much tighter (same result).
       std::uint32_t& lp = last_partner[i];
-      if (lp != Matching::kNone) {
-        const double d = (q - tp[lp]).norm();
-        if (d < gate) bound = std::min(gate, d * (1 + 1e-9) + 1e-12);
-      }
-      auto nn = target.tree().nearest(q, bound);
-      if (!nn && bound < gate) nn = target.tree().nearest(q, gate);
+      const auto nn = target.tree().nearest(q, gate, lp);
       lp = nn ? nn->index : Matching::kNone;
       if (nn && nn->sq_distance < gate * gate) {
         pairs.push_back({static_cast<std::uint32_t>(i), nn->index, nn->sq_distance});

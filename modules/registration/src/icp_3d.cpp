@@ -167,14 +167,8 @@ void find_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
   detail::parallel_for(source.size(), team, [&](std::size_t k) {
     const std::size_t i = order[k];
     const Eigen::Vector3f q = R * source.points()[i] + t;
-    float bound = gate;
-    if (slot[i] >= 0) {
-      const float d = (q - target.points()[static_cast<std::size_t>(slot[i])]).norm();
-      // A hair above d, so rounding cannot drop the previous partner.
-      if (d < gate) bound = std::min(gate, d * (1 + 1e-5f) + 1e-6f);
-    }
-    auto nn = target.tree().nearest(q, bound);
-    if (!nn && bound < gate) nn = target.tree().nearest(q, gate);
+    // The previous partner (none: an out-of-range hint) bounds the search.
+    const auto nn = target.tree().nearest(q, gate, static_cast<std::uint32_t>(slot[i]));
     slot[i] = nn ? static_cast<std::int64_t>(nn->index) : -1;
   });
   pairs.clear();

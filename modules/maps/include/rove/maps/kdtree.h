@@ -106,6 +106,12 @@ class KdTree {
   /// The nearest indexed point within `max_distance` meters of q (inclusive);
   /// nullopt if there is none. Precondition: max_distance >= 0.
   std::optional<Result> nearest(const Point& q, Scalar max_distance) const;
+  /// As above, with a guess: `hint` is the source index of a point likely
+  /// to be (nearly) the nearest, e.g. the partner of the same query point
+  /// in the previous ICP iteration. Its distance bounds the search, which
+  /// then prunes most of the tree; the result is the same as without the
+  /// hint. A hint that is out of range or not indexed is ignored.
+  std::optional<Result> nearest(const Point& q, Scalar max_distance, std::uint32_t hint) const;
 
   /// The min(k, size()) nearest points to q, nearest first, written to the
   /// front of `out`; returns how many were written (0 if q is not finite).
