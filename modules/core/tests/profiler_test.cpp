@@ -34,9 +34,16 @@ TEST(Stopwatch, IsMonotonicAndLapRestarts) {
   EXPECT_LE(a, b);
   const double lap = sw.lap();
   EXPECT_GE(lap, b);
-  EXPECT_LE(sw.elapsed(), inner.elapsed());  // sw restarted after inner started
+  // sw restarted after inner started. Each pair of readings is taken in
+  // named order: the order in which a macro's arguments are evaluated is
+  // unspecified, and reading inner first would let sw gain the time between.
+  const double sw_after_lap = sw.elapsed();
+  const double inner_after_lap = inner.elapsed();
+  EXPECT_LE(sw_after_lap, inner_after_lap);
   sw.reset();
-  EXPECT_LE(sw.elapsed(), inner.elapsed());
+  const double sw_after_reset = sw.elapsed();
+  const double inner_after_reset = inner.elapsed();
+  EXPECT_LE(sw_after_reset, inner_after_reset);
 }
 
 TEST(Profiler, AccumulatesCallsMinMeanMaxTotal) {
