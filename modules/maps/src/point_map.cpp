@@ -141,12 +141,24 @@ std::vector<Eigen::Vector3f> scan_points_mrpt(const RangeScan2D& scan, const Pos
   std::vector<bool> valid(n, false);
   const bool any = std::any_of(scan.valid.begin(), scan.valid.end(), [](bool v) { return v; });
   if (!any) return out;
-  const std::vector<double> angles = scan.ray_angles();
-  for (std::size_t i = 0; i < n; ++i) {
+  // MRPT's arithmetic, so that the points are MRPT's to the bit (its 2D
+  // scan insertion into a points map and its sin/cos table of the rays):
+  // the ray angle accumulated in double from the first ray, its cos and sin
+  // rounded to float, the sensor pose's rotation and translation rounded to
+  // float, and x = t_x + (r·cos·R_xx + r·sin·R_xy) in float. Computing in
+  // double instead moves points by an ulp or two, and ICP-SLAM runs that
+  // match MRPT's to 1e-6 m can then take another gate schedule and part by
+  // centimeters (docs/icp-slam.md).
+  Eigen::Matrix<float, 3, 2> Rf = R.leftCols<2>().cast<float>();
+  const Eigen::Vector3f tf = t.cast<float>();
+  const double step = (scan.right_to_left ? 1.0 : -1.0) * (scan.aperture / static_cast<double>(n - 1));
+  double angle = (scan.right_to_left ? -0.5 : 0.5) * scan.aperture;
+  for (std::size_t i = 0; i < n; ++i, angle += step) {
     if (!scan.ray_yields_point(i)) continue;
-    const double r = scan.ranges[i];
-    const Eigen::Vector3d p = R * Eigen::Vector3d(r * std::cos(angles[i]), r * std::sin(angles[i]), 0.0) + t;
-    cand[i] = p.cast<float>();
+    const float r = scan.ranges[i];
+    const float xs = r * static_cast<float>(std::cos(angle));
+    const float ys = r * static_cast<float>(std::sin(angle));
+    for (int d = 0; d < 3; ++d) cand[i][d] = tf[d] + (xs * Rf(d, 0) + ys * Rf(d, 1));
     valid[i] = true;
   }
   mrpt_filter(cand, valid, o, o.also_interpolate, [&](const Eigen::Vector3f& p, int k) {

@@ -75,6 +75,12 @@ Icp2dOptions icp_2d_options_from_ini(const IniFile& ini, std::string_view sectio
                                              {{"point_to_point", Icp2dMetric::PointToPoint},
                                               {"point_to_line", Icp2dMetric::PointToLine}})
                  : o.metric;
+  o.fit_arithmetic =
+      ini.has(s, "fit_arithmetic")
+          ? ini.get_enum<Icp2dFitArithmetic>(s, "fit_arithmetic",
+                                             {{"double", Icp2dFitArithmetic::Double},
+                                              {"mrpt_float", Icp2dFitArithmetic::MrptFloat}})
+          : o.fit_arithmetic;
   o.max_iterations = ini.get_or<unsigned>(s, "maxIterations", o.max_iterations);
   o.min_abs_step_trans = ini.get_or<double>(s, "minAbsStep_trans", o.min_abs_step_trans);
   o.min_abs_step_rot = ini.get_or<double>(s, "minAbsStep_rot", o.min_abs_step_rot);
@@ -263,11 +269,46 @@ void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, c
   }
 }
 
+/// MRPT's tfest::se2_l2 (Martínez et al., J. Field Robotics 2006), in its
+/// single-precision arithmetic: see Icp2dFitArithmetic::MrptFloat. "a" is
+/// the target (MRPT's global) side, "b" the source (local) side. The
+/// project builds with -ffp-contract=off, so no product is fused into an
+/// FMA that MRPT's build does not have.
+Pose2 mrpt_float_fit(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+                     const std::vector<Pair2>& pairs) {
+  const auto& tp = target.points();
+  float sum_xa = 0, sum_ya = 0, sum_xb = 0, sum_yb = 0;
+  float sxx = 0, sxy = 0, syx = 0, syy = 0;
+  for (const Pair2& pr : pairs) {
+    const float xa = static_cast<float>(tp[pr.target].x()), ya = static_cast<float>(tp[pr.target].y());
+    const float xb = static_cast<float>(source[pr.source].x());
+    const float yb = static_cast<float>(source[pr.source].y());
+    sum_xa += xa;
+    sum_ya += ya;
+    sum_xb += xb;
+    sum_yb += yb;
+    sxx += xa * xb;
+    syy += ya * yb;
+    sxy += xa * yb;
+    syx += ya * xb;
+  }
+  const float n = static_cast<float>(pairs.size());
+  const float n_inv = 1.0f / n;
+  const float mean_xa = sum_xa * n_inv, mean_ya = sum_ya * n_inv;
+  const float mean_xb = sum_xb * n_inv, mean_yb = sum_yb * n_inv;
+  const float ax = n * (sxx + syy) - sum_xa * sum_xb - sum_ya * sum_yb;
+  const float ay = sum_xa * sum_yb + n * (syx - sxy) - sum_xb * sum_ya;
+  const double phi = (ax != 0 || ay != 0) ? std::atan2(static_cast<double>(ay), static_cast<double>(ax)) : 0.0;
+  const double c = std::cos(phi), s = std::sin(phi);
+  return Pose2(mean_xa - mean_xb * c + mean_yb * s, mean_ya - mean_xb * s - mean_yb * c, phi);
+}
+
 /// The closed-form least-squares rigid motion of the pairs (Lu & Milios
 /// 1997, eqs. 12-13; the arithmetic of fit_rigid_2d with unit weights,
 /// without its covariance, which ICP needs only at the end).
 Pose2 closed_form_fit(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
-                      const std::vector<Pair2>& pairs) {
+                      const std::vector<Pair2>& pairs, Icp2dFitArithmetic arithmetic) {
+  if (arithmetic == Icp2dFitArithmetic::MrptFloat) return mrpt_float_fit(target, source, pairs);
   const auto& tp = target.points();
   Eigen::Vector2d cs = Eigen::Vector2d::Zero(), ct = Eigen::Vector2d::Zero();
   for (const Pair2& pr : pairs) {
@@ -545,7 +586,7 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
     }
     Pose2 next = pose;
     if (o.algorithm == IcpAlgorithm::Classic && o.metric == Icp2dMetric::PointToPoint) {
-      next = closed_form_fit(target, source, m.pairs);
+      next = closed_form_fit(target, source, m.pairs, o.fit_arithmetic);
     } else if (o.algorithm == IcpAlgorithm::Classic) {
       const Normal3 ne = accumulate(target, source, m.pairs, pose, o.metric, TrivialKernel{},
                                     false, o.num_threads);

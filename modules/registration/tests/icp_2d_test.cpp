@@ -1,6 +1,7 @@
 #include "rove/registration/icp_2d.h"
 
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
@@ -115,6 +116,33 @@ TEST(Icp2d, EveryVariantRecoversANoisyScan) {
       expect_pose_near(r.T_target_source.mean(), truth, 5e-3, deg_to_rad(0.1));
     }
   }
+}
+
+TEST(Icp2d, MrptFloatFitRecoversKnownPoses) {
+  // Four points whose sums and products are exact in float: MRPT's
+  // single-precision formula must give the exact motion (its signs and
+  // which side is "global" are what this checks).
+  const std::vector<Eigen::Vector2d> local = {{1, 0}, {0, 1}, {-1, 0}, {0, -2}};
+  const Pose2 truth(2, 3, std::numbers::pi / 2);
+  std::vector<Eigen::Vector2d> global;
+  for (const auto& p : local) global.push_back(truth.rotation() * p + truth.translation());
+  const IcpTarget2D exact(global);
+  Icp2dOptions o = accurate_options();
+  o.fit_arithmetic = Icp2dFitArithmetic::MrptFloat;
+  const auto r = icp_2d(exact, local, Pose2(2.05, 2.95, std::numbers::pi / 2 + 0.02), o);
+  expect_pose_near(r.T_target_source.mean(), truth, 1e-6, 1e-6);
+
+  // A real registration near the origin: the float fit lands where the
+  // double one does, to float precision.
+  const auto map = room(0.02);
+  const Pose2 room_truth(0.2, -0.15, deg_to_rad(4));
+  const auto scan = as_seen_from(room(0.1), room_truth, 0.0, 1);
+  const IcpTarget2D target(map);
+  const auto d = icp_2d(target, scan, Pose2(), accurate_options());
+  const auto f = icp_2d(target, scan, Pose2(), o);
+  ASSERT_EQ(f.termination, RegistrationTermination::Converged) << f.message;
+  expect_pose_near(f.T_target_source.mean(), room_truth, 0.01, deg_to_rad(0.3));
+  expect_pose_near(f.T_target_source.mean(), d.T_target_source.mean(), 1e-4, 1e-4);
 }
 
 TEST(Icp2d, MrptDecimationUsesEveryPointOverTheRun) {
@@ -240,6 +268,21 @@ TEST(Icp2dOptions, LoadsMrptIcpSlamSection) {
   EXPECT_EQ(o.corresponding_points_decimation, 5u);
   const IniFile lm = IniFile::load(std::string(ROVE_SOURCE_DIR) + "/data/mrpt/icp-slam_demo_LM.ini");
   EXPECT_EQ(icp_2d_options_from_ini(lm, "ICP").algorithm, IcpAlgorithm::LevenbergMarquardt);
+  // rove's own key: the arithmetic of the closed-form fit (double unless said).
+  EXPECT_EQ(o.fit_arithmetic, Icp2dFitArithmetic::Double);
+  EXPECT_EQ(icp_2d_options_from_ini(IniFile::parse("[ICP]\nfit_arithmetic = mrpt_float\n"), "ICP")
+                .fit_arithmetic,
+            Icp2dFitArithmetic::MrptFloat);
+  EXPECT_EQ(icp_2d_options_from_ini(IniFile::parse("[ICP]\nfit_arithmetic = double\n"), "ICP")
+                .fit_arithmetic,
+            Icp2dFitArithmetic::Double);
+  try {
+    (void)icp_2d_options_from_ini(IniFile::parse("[ICP]\nfit_arithmetic = single\n", "f.ini"), "ICP");
+    FAIL() << "an unknown fit_arithmetic was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "fit_arithmetic");
+    EXPECT_EQ(e.file(), "f.ini");
+  }
 }
 
 TEST(Icp2dOptions, UnknownAndMalformedKeysAreReported) {

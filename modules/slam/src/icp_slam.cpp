@@ -79,6 +79,9 @@ IcpSlamConfig load_icp_slam_config(const IniFile& ini) {
                          ini.line(kSec, unread.front()).value_or(0), kSec));
   }
   o.icp = icp_2d_options_from_ini(ini, "ICP");
+  // MRPT's icp-slam, reproduced: its single-precision closed-form fit
+  // unless the configuration asks for rove's double (fit_arithmetic).
+  if (!ini.has("ICP", "fit_arithmetic")) o.icp.fit_arithmetic = Icp2dFitArithmetic::MrptFloat;
 
   bool has_points = false, has_grid = false;
   for (const auto& e : cfg.map.entries()) {

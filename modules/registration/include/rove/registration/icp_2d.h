@@ -82,6 +82,20 @@ enum class Icp2dMetric {
   PointToLine,   ///< (nᵀ(T·s − t))², n the target normal (needs target normals)
 };
 
+/// The arithmetic of icpClassic's closed-form point-to-point fit.
+enum class Icp2dFitArithmetic {
+  /// Double precision about the pairs' centroids (rove's default).
+  Double,
+  /// MRPT's tfest::se2_l2 to the bit: raw sums of the coordinates and of
+  /// their products in single precision, in pair order, then
+  /// Ax = N·(Σxa·xb + Σya·yb) − Σxa·Σxb − Σya·Σyb and
+  /// Ay = Σxa·Σyb + N·(Σya·xb − Σxa·yb) − Σxb·Σya, φ = atan2(Ay, Ax) in
+  /// double. Its rounding noise (about 1e-5 relative near the origin,
+  /// growing with the distance to it) decides when MRPT's gate shrinks, so
+  /// a run of MRPT's icp-slam is reproduced step by step only with it.
+  MrptFloat,
+};
+
 /// How the covariance is computed (MRPT's ICP_covariance_method).
 enum class IcpCovarianceMethod {
   LinearMse,          ///< icpCovLinealMSE: σ²·(Σ JᵀJ)⁻¹ of the unweighted pairs
@@ -97,6 +111,10 @@ struct Icp2dOptions {
   IcpAlgorithm algorithm = IcpAlgorithm::Classic;
   /// (metric: point_to_point | point_to_line; rove). Default PointToPoint.
   Icp2dMetric metric = Icp2dMetric::PointToPoint;
+  /// (fit_arithmetic: double | mrpt_float; rove) the arithmetic of the
+  /// classic point-to-point fit (see Icp2dFitArithmetic). Default Double;
+  /// `rove icp-slam` defaults to MrptFloat (load_icp_slam_config).
+  Icp2dFitArithmetic fit_arithmetic = Icp2dFitArithmetic::Double;
   /// (ICP_covariance_method: icpCovLinealMSE | icpCovFiniteDifferences).
   /// Default FiniteDifferences (MRPT's default).
   IcpCovarianceMethod covariance_method = IcpCovarianceMethod::FiniteDifferences;
