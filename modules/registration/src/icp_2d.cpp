@@ -1,6 +1,9 @@
 #include "rove/registration/icp_2d.h"
 
 #include <algorithm>
+#include <array>
+#include <memory>
+#include <new>
 #include <cmath>
 #include <limits>
 
@@ -51,6 +54,21 @@ void Icp2dOptions::check() const {
   ransac.check();
 }
 
+namespace {
+/// MRPT reads these [ICP] keys with read_float (its TConfigParams fields are
+/// double, the reads are not): the value in effect, given or default, is
+/// the nearest float. Reading them the same way keeps every gate and step
+/// threshold bit-identical to MRPT's.
+double mrpt_float_key(const IniFile& ini, const std::string& s, const char* key, double fallback) {
+  return static_cast<float>(ini.get_or<double>(s, key, fallback));
+}
+/// MRPT's DEG2RAD of a float read: x·float(π)/180 in float.
+double mrpt_float_deg_key(const IniFile& ini, const std::string& s, const char* key, double fallback_rad) {
+  const float deg = static_cast<float>(ini.get_or<double>(s, key, rad_to_deg(fallback_rad)));
+  return deg * static_cast<float>(3.14159265358979323846) / 180.0f;
+}
+}  // namespace
+
 Icp2dOptions icp_2d_options_from_ini(const IniFile& ini, std::string_view section,
                                      std::vector<std::string>* unknown_keys) {
   Icp2dOptions o;
@@ -82,22 +100,22 @@ Icp2dOptions icp_2d_options_from_ini(const IniFile& ini, std::string_view sectio
                                               {"mrpt_float", Icp2dFitArithmetic::MrptFloat}})
           : o.fit_arithmetic;
   o.max_iterations = ini.get_or<unsigned>(s, "maxIterations", o.max_iterations);
-  o.min_abs_step_trans = ini.get_or<double>(s, "minAbsStep_trans", o.min_abs_step_trans);
-  o.min_abs_step_rot = ini.get_or<double>(s, "minAbsStep_rot", o.min_abs_step_rot);
-  o.threshold_dist = ini.get_or<double>(s, "thresholdDist", o.threshold_dist);
-  o.threshold_ang = deg_to_rad(ini.get_or<double>(s, "thresholdAng_DEG", rad_to_deg(o.threshold_ang)));
-  o.alfa = ini.get_or<double>(s, "ALFA", o.alfa);
+  o.min_abs_step_trans = mrpt_float_key(ini, s, "minAbsStep_trans", o.min_abs_step_trans);
+  o.min_abs_step_rot = mrpt_float_key(ini, s, "minAbsStep_rot", o.min_abs_step_rot);
+  o.threshold_dist = mrpt_float_key(ini, s, "thresholdDist", o.threshold_dist);
+  o.threshold_ang = mrpt_float_deg_key(ini, s, "thresholdAng_DEG", o.threshold_ang);
+  o.alfa = mrpt_float_key(ini, s, "ALFA", o.alfa);
   o.smallest_threshold_dist =
-      ini.get_or<double>(s, "smallestThresholdDist", o.smallest_threshold_dist);
+      mrpt_float_key(ini, s, "smallestThresholdDist", o.smallest_threshold_dist);
   o.only_closest_correspondences =
       ini.get_or<bool>(s, "onlyClosestCorrespondences", o.only_closest_correspondences);
   o.only_unique_robust = ini.get_or<bool>(s, "onlyUniqueRobust", o.only_unique_robust);
   o.corresponding_points_decimation = ini.get_or<unsigned>(
       s, "corresponding_points_decimation", o.corresponding_points_decimation);
-  o.covariance_var_points = ini.get_or<double>(s, "covariance_varPoints", o.covariance_var_points);
+  o.covariance_var_points = mrpt_float_key(ini, s, "covariance_varPoints", o.covariance_var_points);
   o.skip_cov_calculation = ini.get_or<bool>(s, "skip_cov_calculation", o.skip_cov_calculation);
   o.use_kernel = ini.get_or<bool>(s, "use_kernel", o.use_kernel);
-  o.kernel_rho = ini.get_or<double>(s, "kernel_rho", o.kernel_rho);
+  o.kernel_rho = mrpt_float_key(ini, s, "kernel_rho", o.kernel_rho);
   if (ini.has(s, "robust_kernel")) {
     const std::string text = ini.get<std::string>(s, "robust_kernel");
     try {
@@ -106,25 +124,25 @@ Icp2dOptions icp_2d_options_from_ini(const IniFile& ini, std::string_view sectio
       throw ConfigError(ini.source(), s, "robust_kernel", e.problem());
     }
   }
-  o.lm_initial_lambda = ini.get_or<double>(s, "LM_initial_lambda", o.lm_initial_lambda);
+  o.lm_initial_lambda = mrpt_float_key(ini, s, "LM_initial_lambda", o.lm_initial_lambda);
   o.lm_inner_iterations = ini.get_or<unsigned>(s, "LM_inner_iterations", o.lm_inner_iterations);
   o.do_ransac = ini.get_or<bool>(s, "doRANSAC", o.do_ransac);
   o.ransac.min_set_size = ini.get_or<unsigned>(s, "ransac_minSetSize", o.ransac.min_set_size);
   o.ransac.max_set_size = ini.get_or<unsigned>(s, "ransac_maxSetSize", o.ransac.max_set_size);
   o.ransac.n_simulations = ini.get_or<unsigned>(s, "ransac_nSimulations", o.ransac.n_simulations);
-  o.ransac.mahalanobis_threshold = ini.get_or<double>(
-      s, "ransac_mahalanobisDistanceThreshold", o.ransac.mahalanobis_threshold);
-  o.ransac.normalization_std = ini.get_or<double>(s, "normalizationStd", o.ransac.normalization_std);
+  o.ransac.mahalanobis_threshold = mrpt_float_key(
+      ini, s, "ransac_mahalanobisDistanceThreshold", o.ransac.mahalanobis_threshold);
+  o.ransac.normalization_std = mrpt_float_key(ini, s, "normalizationStd", o.ransac.normalization_std);
   o.ransac.fuse_by_corrs_match =
       ini.get_or<bool>(s, "ransac_fuseByCorrsMatch", o.ransac.fuse_by_corrs_match);
-  o.ransac.fuse_max_diff_xy = ini.get_or<double>(s, "ransac_fuseMaxDiffXY", o.ransac.fuse_max_diff_xy);
-  o.ransac.fuse_max_diff_phi = deg_to_rad(
-      ini.get_or<double>(s, "ransac_fuseMaxDiffPhi_DEG", rad_to_deg(o.ransac.fuse_max_diff_phi)));
+  o.ransac.fuse_max_diff_xy = mrpt_float_key(ini, s, "ransac_fuseMaxDiffXY", o.ransac.fuse_max_diff_xy);
+  o.ransac.fuse_max_diff_phi =
+      mrpt_float_deg_key(ini, s, "ransac_fuseMaxDiffPhi_DEG", o.ransac.fuse_max_diff_phi);
   o.degeneracy_threshold = ini.get_or<double>(s, "degeneracy_threshold", o.degeneracy_threshold);
   o.normal_neighbors = ini.get_or<unsigned>(s, "normal_neighbors", o.normal_neighbors);
   o.num_threads = ini.get_or<int>(s, "num_threads", o.num_threads);
   o.axy_aprox_derivatives =
-      ini.get_or<double>(s, "Axy_aprox_derivatives", o.axy_aprox_derivatives);
+      mrpt_float_key(ini, s, "Axy_aprox_derivatives", o.axy_aprox_derivatives);
   // Accepted for MRPT compatibility, without effect: rove has no separate
   // quality measure.
   (void)ini.get_or<bool>(s, "skip_quality_calculation", true);
@@ -176,25 +194,52 @@ std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector
                         std::vector<Pair2>& pairs, std::vector<Neighbor<double>>& nbrs,
                         std::uint32_t* last_partner) {
   std::size_t with_pair = 0;
+  // MRPT's CPointsMap::determineMatching2D arithmetic, so that pairs at the
+  // gate fall on the same side as MRPT's: the source points moved in float
+  // (x₀ + (x·cos − y·sin), SSE, four at a time) except the last N mod 4,
+  // which MRPT moves in double and rounds; the squared distance to the
+  // nearest map point in float, as its float KD-tree computes it; the gate
+  // in double.
+  const std::size_t n_all = source.size();
+  const std::size_t n_packed = n_all - n_all % 4;
+  const float cf = static_cast<float>(c), sf = static_cast<float>(s);
+  const float txf = static_cast<float>(t.x()), tyf = static_cast<float>(t.y());
+  const auto& tp = target.points();
   for (std::size_t k = b; k < e; ++k) {
     const std::size_t i = offset + k * decimation;
     const Eigen::Vector2d& p = source[i];
     if (!p.allFinite()) continue;
-    const Eigen::Vector2d q(c * p.x() - s * p.y() + t.x(), s * p.x() + c * p.y() + t.y());
-    const double gate = thr_ang * (q - pivot).norm() + thr;
     if (only_closest) {
-      // The search is bounded by the gate (inclusive); the gate itself is
-      // strict, as MRPT's. Between ICP iterations the pose moves little, so
-      // the point's previous partner, given as the hint, bounds the search
-      // much tighter (same result).
+      const float px = static_cast<float>(p.x()), py = static_cast<float>(p.y());
+      float lx, ly;
+      if (i < n_packed) {
+        lx = txf + (px * cf - py * sf);
+        ly = tyf + (px * sf + py * cf);
+      } else {
+        lx = static_cast<float>(t.x() + c * px - s * py);
+        ly = static_cast<float>(t.y() + s * px + c * py);
+      }
+      const Eigen::Vector2d q(lx, ly);
+      const double gate = thr_ang * (q - pivot).norm() + thr;
+      // The search is bounded by the gate (a hair wider: the test below is
+      // MRPT's float distance); the gate itself is strict, as MRPT's.
+      // Between ICP iterations the pose moves little, so the point's
+      // previous partner, given as the hint, bounds the search much
+      // tighter (same result).
       std::uint32_t& lp = last_partner[i];
-      const auto nn = target.tree().nearest(q, gate, lp);
+      const auto nn = target.tree().nearest(q, gate * (1 + 1e-6), lp);
       lp = nn ? nn->index : Matching::kNone;
-      if (nn && nn->sq_distance < gate * gate) {
-        pairs.push_back({static_cast<std::uint32_t>(i), nn->index, nn->sq_distance});
+      if (!nn) continue;
+      const float dx = lx - static_cast<float>(tp[nn->index].x());
+      const float dy = ly - static_cast<float>(tp[nn->index].y());
+      const float err = dx * dx + dy * dy;
+      if (err < gate * gate) {
+        pairs.push_back({static_cast<std::uint32_t>(i), nn->index, err});
         ++with_pair;
       }
     } else {
+      const Eigen::Vector2d q(c * p.x() - s * p.y() + t.x(), s * p.x() + c * p.y() + t.y());
+      const double gate = thr_ang * (q - pivot).norm() + thr;
       target.tree().radius(q, gate, nbrs, false);
       bool any = false;
       for (const auto& nb : nbrs) {
@@ -424,104 +469,133 @@ Pose2 lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d> sour
   });
 }
 
-/// Σ‖R(φ)·s + T − t‖² over a fixed set of pairs for any pose (x, y, φ) in
-/// O(1), from moments about the centroids of both sides (cross terms vanish
-/// there, so nothing large cancels): Σ‖t′‖² + Σ‖s′‖² − 2(c·Σt′·s′ +
-/// s·Σt′×s′) + n‖c_t − R·c_s − T‖². MRPT's squareErrorVector summed.
-struct PairMoments {
-  Eigen::Vector2d cs = Eigen::Vector2d::Zero(), ct = Eigen::Vector2d::Zero();
-  double sq = 0, dot = 0, cross = 0, n = 0;
-
-  PairMoments(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
-              const std::vector<Pair2>& pairs) {
-    const auto& tp = target.points();
-    for (const Pair2& pr : pairs) {
-      cs += source[pr.source];
-      ct += tp[pr.target];
-    }
-    n = static_cast<double>(pairs.size());
-    cs /= n;
-    ct /= n;
-    for (const Pair2& pr : pairs) {
-      const Eigen::Vector2d a = source[pr.source] - cs, b = tp[pr.target] - ct;
-      sq += a.squaredNorm() + b.squaredNorm();
-      dot += a.x() * b.x() + a.y() * b.y();
-      cross += a.x() * b.y() - a.y() * b.x();
-    }
-  }
-  double sum_sq_errors(const Pose2& T) const {
-    const double c = std::cos(T.phi()), s = std::sin(T.phi());
-    const Eigen::Vector2d d(ct.x() - (c * cs.x() - s * cs.y()) - T.x(),
-                            ct.y() - (s * cs.x() + c * cs.y()) - T.y());
-    return std::max(0.0, sq - 2 * (c * dot + s * cross)) + n * d.squaredNorm();
-  }
-};
-
 /// The slope at w2 of the parabola through (w1, q1), (w2, q2), (w3, q3):
-/// MRPT's three-point derivative of its LM gradient.
+/// MRPT's three-point derivative of its LM gradient, in its order of
+/// operations (double).
 double parabola_slope(double w1, double w2, double w3, double q1, double q2, double q3) {
-  const double a = (q3 - q2) / ((w3 - w2) * (w3 - w1)) - (q1 - q2) / ((w1 - w2) * (w3 - w1));
-  const double b = ((q1 - q2) + a * (w2 * w2 - w1 * w1)) / (w1 - w2);
-  return 2 * a * w2 + b;
+  const double a = ((q3 - q2) / ((w3 - w2) * (w3 - w1))) - ((q1 - q2) / ((w1 - w2) * (w3 - w1)));
+  const double b = ((q1 - q2) + (a * ((w2 * w2) - (w1 * w1)))) / (w1 - w2);
+  return (2 * a * w2) + b;
 }
 
-/// One pairing of MRPT's icpLevenbergMarquardt (see IcpAlgorithm): the
-/// gradient J (3 × pairs) of the kernelized squared distances by finite
-/// differences, H = JJᵀ, then damped steps x ← x − (H + λ·diag H)⁻¹·J·e on
-/// the fixed J and e (the squared distances at the pairing's pose).
+/// The pairs' squared errors at pose p and the source points moved by p,
+/// as MRPT's TMatchingPairList::squareErrorVector computes them: the pose
+/// and every product in float.
+void mrpt_square_errors(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+                        const std::vector<Pair2>& pairs, const Pose2& p, std::vector<float>& e,
+                        std::vector<float>& xs, std::vector<float>& ys) {
+  const auto& tp = target.points();
+  const float c = static_cast<float>(std::cos(p.phi())), s = static_cast<float>(std::sin(p.phi()));
+  const float px = static_cast<float>(p.x()), py = static_cast<float>(p.y());
+  e.resize(pairs.size());
+  xs.resize(pairs.size());
+  ys.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const float lx = static_cast<float>(source[pairs[k].source].x());
+    const float ly = static_cast<float>(source[pairs[k].source].y());
+    const float gx = static_cast<float>(tp[pairs[k].target].x());
+    const float gy = static_cast<float>(tp[pairs[k].target].y());
+    xs[k] = px + c * lx - s * ly;
+    ys[k] = py + s * lx + c * ly;
+    e[k] = (gx - xs[k]) * (gx - xs[k]) + (gy - ys[k]) * (gy - ys[k]);
+  }
+}
+
+float float_sum(const std::vector<float>& v) {
+  float sum = 0;
+  for (float x : v) sum += x;
+  return sum;
+}
+
+/// One pairing of MRPT's icpLevenbergMarquardt (see IcpAlgorithm) in MRPT
+/// 2.5.8's arithmetic, so that runs reproduce MRPT's: the gradient J
+/// (3 × pairs) of the kernelized squared distances by finite differences
+/// (distances to the nearest map point in float, as its float KD-tree;
+/// the kernel x²/(x² + ρ²) in float; slopes in double, stored in float),
+/// H = J·Jᵀ summed in float, then damped steps x ← x − (H + λ·diag H)⁻¹·J·e
+/// on the fixed J and e: the 3×3 inverse by Eigen's LLᵀ and the product
+/// C⁻¹·J·e by the same Eigen expression over the same row-major float
+/// storage as MRPT's, so Eigen sums them in the same order.
 Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
                      const std::vector<Pair2>& pairs, Pose2 q, const Icp2dOptions& o) {
-  const double rho2 = o.kernel_rho * o.kernel_rho;
-  const auto kern = [&](double x2) { return o.use_kernel ? x2 / (x2 + rho2) : x2; };
-  // The nearest target point to a shifted point is at most as far as the
-  // pair's partner is from it: the search bounded by that distance prunes
-  // more and finds the same point (or the partner).
-  const auto nearest_sq = [&](double x, double y, const Eigen::Vector2d& partner) {
-    const double d2 = (partner.x() - x) * (partner.x() - x) + (partner.y() - y) * (partner.y() - y);
-    const auto nn = target.tree().nearest(Eigen::Vector2d(x, y), std::sqrt(d2) * (1 + 1e-12));
-    return nn ? std::min(nn->sq_distance, d2) : d2;
+  const auto& tp = target.points();
+  const std::size_t n = pairs.size();
+  const float rho2 = static_cast<float>(o.kernel_rho * o.kernel_rho);
+  const auto kern = [&](float x2) -> float { return o.use_kernel ? x2 / (x2 + rho2) : x2; };
+  // Squared distance from (x, y) to its nearest map point, in float.
+  const auto nearest_sq = [&](float x, float y) -> float {
+    const auto nn = target.tree().nearest(Eigen::Vector2d(x, y));
+    const float dx = x - static_cast<float>(tp[nn->index].x());
+    const float dy = y - static_cast<float>(tp[nn->index].y());
+    return dx * dx + dy * dy;
   };
+  std::vector<float> e, xs, ys;
+  mrpt_square_errors(target, source, pairs, q, e, xs, ys);
+  double ose = float_sum(e);
   const double c = std::cos(q.phi()), s = std::sin(q.phi());
   const double axy = o.axy_aprox_derivatives;
-  const auto& tp = target.points();
-  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d g = Eigen::Vector3d::Zero();
-  for (const Pair2& pr : pairs) {
-    const Eigen::Vector2d& p = source[pr.source];
-    const Eigen::Vector2d& t = tp[pr.target];
-    const double x = q.x() + c * p.x() - s * p.y();
-    const double y = q.y() + s * p.x() + c * p.y();
-    const double e = (t.x() - x) * (t.x() - x) + (t.y() - y) * (t.y() - y);
-    // ∂/∂x: distances to the nearest target point at x − Axy, x, x + Axy.
-    // Pairs are nearest-point pairs made at q, so the partner is the nearest
-    // target point to (x, y).
-    const double q2 = kern(pr.sq_dist);
-    const double jx = parabola_slope(x - axy, x, x + axy, kern(nearest_sq(x - axy, y, t)), q2,
-                                     kern(nearest_sq(x + axy, y, t)));
-    // ∂/∂y: distances to the pair's own target point (MRPT reuses q2).
-    const double dx2 = (t.x() - x) * (t.x() - x);
-    const double jy = parabola_slope(y - axy, y, y + axy,
-                                     kern(dx2 + (t.y() - y + axy) * (t.y() - y + axy)), q2,
-                                     kern(dx2 + (t.y() - y - axy) * (t.y() - y - axy)));
-    const double jphi = jx * (-s * p.x() - c * p.y()) + jy * (c * p.x() - s * p.y());
-    const Eigen::Vector3d j(jx, jy, jphi);
-    H += j * j.transpose();
-    g += j * e;
+  // MRPT's CMatrixFloat: row-major, 3 × n.
+  using RowMajorXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  using RowMajor33f = Eigen::Matrix<float, 3, 3, Eigen::RowMajor, 3, 3>;
+  // MRPT's matrices live in 32-byte aligned storage and are used through
+  // Maps that say so; the same here (the alignment is part of the type
+  // Eigen selects its product kernels by).
+  constexpr std::size_t kAlign = 32;
+  struct AlignedDelete {
+    void operator()(float* p) const { ::operator delete[](p, std::align_val_t(kAlign)); }
+  };
+  const std::unique_ptr<float[], AlignedDelete> jac(
+      static_cast<float*>(::operator new[](3 * std::max<std::size_t>(n, 1) * sizeof(float), std::align_val_t(kAlign))));
+  Eigen::Map<RowMajorXf, kAlign, Eigen::InnerStride<1>> J(jac.get(), 3, static_cast<Eigen::Index>(n));
+  for (std::size_t k = 0; k < n; ++k) {
+    const float xk = xs[k], yk = ys[k];
+    const float gx = static_cast<float>(tp[pairs[k].target].x());
+    const float gy = static_cast<float>(tp[pairs[k].target].y());
+    const double lx = static_cast<float>(source[pairs[k].source].x());
+    const double ly = static_cast<float>(source[pairs[k].source].y());
+    // ∂/∂x: distances to the nearest map point at x − Axy, x, x + Axy.
+    const double x1 = xk - axy, x3 = xk + axy;
+    const double q2 = kern(nearest_sq(xk, yk));
+    J(0, k) = static_cast<float>(parabola_slope(x1, xk, x3, kern(nearest_sq(static_cast<float>(x1), yk)), q2,
+                                                kern(nearest_sq(static_cast<float>(x3), yk))));
+    // ∂/∂y: distances to the pair's own map point (MRPT reuses q2).
+    const float fx2 = (gx - xk) * (gx - xk);
+    const double y1 = yk - axy, y3 = yk + axy;
+    J(1, k) = static_cast<float>(parabola_slope(
+        y1, yk, y3, kern(static_cast<float>(fx2 + (gy - y1) * (gy - y1))), q2,
+        kern(static_cast<float>(fx2 + (gy - y3) * (gy - y3)))));
+    J(2, k) = static_cast<float>(static_cast<double>(J(0, k)) * (-s * lx - c * ly) +
+                                 static_cast<double>(J(1, k)) * (c * lx - s * ly));
   }
-  const PairMoments moments(target, source, pairs);
-  double ose = moments.sum_sq_errors(q);  // compared with values of the same formula
+  alignas(kAlign) std::array<float, 9> h_buf, c_buf, c_inv_buf, identity_buf;
+  using Map33 = Eigen::Map<RowMajor33f, kAlign, Eigen::InnerStride<1>>;
+  Map33 H(h_buf.data());
+  for (int r = 0; r < 3; ++r)
+    for (int col = r; col < 3; ++col) {
+      float sum = 0;
+      for (std::size_t k = 0; k < n; ++k) sum += J(r, k) * J(col, k);
+      H(r, col) = H(col, r) = sum;
+    }
+  const Eigen::Map<Eigen::VectorXf> err(e.data(), static_cast<Eigen::Index>(n));
+  Map33 identity(identity_buf.data());
+  identity.setIdentity();
   double lambda = o.lm_initial_lambda;
-  constexpr unsigned kMaxSteps = 99;  // MRPT: while (keep && ++n < 100)
-  for (unsigned it = 0; it < kMaxSteps; ++it) {
-    Eigen::Matrix3d C = H;
-    C.diagonal() *= 1 + lambda;
-    const Eigen::Vector3d delta = C.inverse() * g;  // closed-form 3×3 inverse
+  std::vector<float> e_new, xs_new, ys_new;
+  // MRPT: while (keep && ++n < 100).
+  bool keep = true;
+  for (unsigned it = 1; keep && it < 100; ++it) {
+    Map33 C(c_buf.data());
+    C = H;
+    for (int d = 0; d < 3; ++d) C(d, d) *= (1 + lambda);
+    Map33 C_inv(c_inv_buf.data());
+    C_inv = C.llt().solve(identity).eval();
+    const Eigen::Vector3f delta = (C_inv * J * err).eval();
     if (!delta.allFinite()) break;
-    const Pose2 q_new(q.x() - delta(0), q.y() - delta(1), q.phi() - delta(2));
-    const double ose_new = moments.sum_sq_errors(q_new);
-    const bool keep = std::abs(delta(0)) > o.min_abs_step_trans ||
-                      std::abs(delta(1)) > o.min_abs_step_trans ||
-                      std::abs(delta(2)) > o.min_abs_step_rot;
+    const Pose2 q_new(q.x() - delta[0], q.y() - delta[1], q.phi() - delta[2]);
+    mrpt_square_errors(target, source, pairs, q_new, e_new, xs_new, ys_new);
+    const float ose_new = float_sum(e_new);
+    keep = std::abs(delta[0]) > o.min_abs_step_trans || std::abs(delta[1]) > o.min_abs_step_trans ||
+           std::abs(delta[2]) > o.min_abs_step_rot;
     if (ose_new < ose) {
       lambda /= 10;
       q = q_new;
@@ -529,7 +603,6 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
     } else {
       lambda *= 10;
     }
-    if (!keep) break;
   }
   return q;
 }
@@ -625,10 +698,18 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
   res.iterations = iterations;
   res.final_threshold_dist = thr;
   res.correspondences = m.pairs.size();
-  res.goodness = m.sources_considered == 0
-                     ? 0.0
-                     : std::min(1.0, static_cast<double>(m.sources_with_pair) /
-                                         static_cast<double>(m.sources_considered));
+  // MRPT's correspondencesRatio, in its float arithmetic: decimation ×
+  // (points with a pair) / (all points), so with decimation the share of
+  // the points considered is measured against N / decimation, not their
+  // integer count. (Capped at 1: with N not a multiple of the decimation
+  // and every point paired MRPT reports slightly more.)
+  const std::size_t finite_points = finite;
+  res.goodness =
+      finite_points == 0
+          ? 0.0
+          : std::min(1.0, static_cast<double>(static_cast<float>(std::max<std::size_t>(decimation, 1) *
+                                                                 m.sources_with_pair) /
+                                              static_cast<float>(finite_points)));
   double sse = 0;
   for (const auto& p : m.pairs) sse += p.sq_dist;
   res.fitness = m.pairs.empty() ? 0.0 : sse / static_cast<double>(m.pairs.size());

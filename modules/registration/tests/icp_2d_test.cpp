@@ -258,10 +258,16 @@ TEST(Icp2dOptions, LoadsMrptIcpSlamSection) {
   const IniFile ini = IniFile::load(path);
   const Icp2dOptions o = icp_2d_options_from_ini(ini, "ICP");
   EXPECT_EQ(o.max_iterations, 80u);
-  EXPECT_DOUBLE_EQ(o.threshold_dist, 0.3);
-  EXPECT_NEAR(o.threshold_ang, deg_to_rad(5), 1e-15);
-  EXPECT_DOUBLE_EQ(o.alfa, 0.8);
-  EXPECT_DOUBLE_EQ(o.smallest_threshold_dist, 0.05);
+  // MRPT reads these keys as float (read_float into double fields): the
+  // values in effect are the nearest floats, bit for bit, and so are the
+  // defaults of the keys the file leaves out.
+  EXPECT_EQ(o.threshold_dist, static_cast<double>(0.3f));
+  EXPECT_EQ(o.threshold_ang, static_cast<double>(5.0f * static_cast<float>(std::numbers::pi) / 180.0f));
+  EXPECT_EQ(o.alfa, static_cast<double>(0.8f));
+  EXPECT_EQ(o.smallest_threshold_dist, static_cast<double>(0.05f));
+  EXPECT_EQ(o.min_abs_step_trans, static_cast<double>(1e-6f));
+  EXPECT_EQ(o.kernel_rho, static_cast<double>(0.07f));
+  EXPECT_EQ(o.axy_aprox_derivatives, static_cast<double>(0.05f));
   EXPECT_TRUE(o.only_closest_correspondences);
   EXPECT_TRUE(o.only_unique_robust);
   EXPECT_EQ(o.algorithm, IcpAlgorithm::Classic);
@@ -318,7 +324,7 @@ TEST(Icp2dOptions, LevenbergMarquardtFlavoursAndTheirKeys) {
   EXPECT_EQ(icp_2d_options_from_ini(ini, "A").algorithm, IcpAlgorithm::RobustLevenbergMarquardt);
   const auto b = icp_2d_options_from_ini(ini, "B");
   EXPECT_EQ(b.algorithm, IcpAlgorithm::LevenbergMarquardt);
-  EXPECT_DOUBLE_EQ(b.axy_aprox_derivatives, 0.02);
+  EXPECT_EQ(b.axy_aprox_derivatives, static_cast<double>(0.02f));
   // MRPT's LM is point-to-point only: said by name, not silently changed.
   try {
     (void)icp_2d_options_from_ini(ini, "C");

@@ -204,8 +204,8 @@ struct Icp2dResult {
   Pose2Gaussian T_target_source;
   /// Sum of Gaussians from the RANSAC step (empty unless do_ransac).
   Pose2SOG sog;
-  /// Share of source points with a pair at the last pairing, in [0, 1]
-  /// (MRPT's goodness).
+  /// Share of source points with a pair at the last pairing, in [0, 1]:
+  /// MRPT's goodness (correspondencesRatio), decimation × paired / N.
   double goodness = 0.0;
   /// Mean squared distance of the last pairs, m² (point-to-point).
   double fitness = 0.0;
