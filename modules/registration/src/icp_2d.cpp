@@ -191,48 +191,38 @@ std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector
                         const Eigen::Vector2d& pivot, double thr,
                         double thr_ang, std::size_t offset, std::size_t decimation,
                         bool only_closest, std::size_t b, std::size_t e,
-                        std::vector<Pair2>& pairs, std::vector<Neighbor<double>>& nbrs,
+                        std::vector<Pair2>& pairs, std::vector<Neighbor<float>>& nbrs,
                         std::uint32_t* last_partner) {
   std::size_t with_pair = 0;
-  // MRPT's CPointsMap::determineMatching2D arithmetic, so that pairs at the
-  // gate fall on the same side as MRPT's: the source points moved in float
-  // (x₀ + (x·cos − y·sin), SSE, four at a time) except the last N mod 4,
-  // which MRPT moves in double and rounds; the squared distance to the
-  // nearest map point in float, as its float KD-tree computes it; the gate
-  // in double.
-  const std::size_t n_all = source.size();
-  const std::size_t n_packed = n_all - n_all % 4;
+  // MRPT's CPointsMap::determineMatching2D arithmetic (as Debian builds
+  // MRPT 2.5.8, without its hand-written SSE2 paths), so that pairs at the
+  // gate fall on the same side as MRPT's: the source points moved in float,
+  // (x₀ + cos·x) − sin·y; the squared distance to the nearest map point in
+  // float, as its float KD-tree computes it (the target's tree does); the
+  // gate in double from MRPT's float thresholds.
   const float cf = static_cast<float>(c), sf = static_cast<float>(s);
   const float txf = static_cast<float>(t.x()), tyf = static_cast<float>(t.y());
-  const auto& tp = target.points();
   for (std::size_t k = b; k < e; ++k) {
     const std::size_t i = offset + k * decimation;
     const Eigen::Vector2d& p = source[i];
     if (!p.allFinite()) continue;
     if (only_closest) {
       const float px = static_cast<float>(p.x()), py = static_cast<float>(p.y());
-      float lx, ly;
-      if (i < n_packed) {
-        lx = txf + (px * cf - py * sf);
-        ly = tyf + (px * sf + py * cf);
-      } else {
-        lx = static_cast<float>(t.x() + c * px - s * py);
-        ly = static_cast<float>(t.y() + s * px + c * py);
-      }
-      const Eigen::Vector2d q(lx, ly);
-      const double gate = thr_ang * (q - pivot).norm() + thr;
-      // The search is bounded by the gate (a hair wider: the test below is
-      // MRPT's float distance); the gate itself is strict, as MRPT's.
-      // Between ICP iterations the pose moves little, so the point's
-      // previous partner, given as the hint, bounds the search much
-      // tighter (same result).
+      const float lx = txf + cf * px - sf * py;
+      const float ly = tyf + sf * px + cf * py;
+      const double gate = thr_ang * std::sqrt((pivot.x() - lx) * (pivot.x() - lx) +
+                                              (pivot.y() - ly) * (pivot.y() - ly)) + thr;
+      // The search is bounded by the gate (inclusive, a hair wider: the test
+      // below is MRPT's, a float distance against a double gate), strict as
+      // MRPT's. Between ICP iterations the pose moves little, so the point's
+      // previous partner, given as the hint, bounds the search much tighter
+      // (same result).
       std::uint32_t& lp = last_partner[i];
-      const auto nn = target.tree().nearest(q, gate * (1 + 1e-6), lp);
+      const auto nn = target.tree().nearest(Eigen::Vector2f(lx, ly),
+                                            static_cast<float>(gate * (1 + 1e-6)), lp);
       lp = nn ? nn->index : Matching::kNone;
       if (!nn) continue;
-      const float dx = lx - static_cast<float>(tp[nn->index].x());
-      const float dy = ly - static_cast<float>(tp[nn->index].y());
-      const float err = dx * dx + dy * dy;
+      const float err = nn->sq_distance;
       if (err < gate * gate) {
         pairs.push_back({static_cast<std::uint32_t>(i), nn->index, err});
         ++with_pair;
@@ -240,7 +230,7 @@ std::size_t match_range(const IcpTarget2D& target, std::span<const Eigen::Vector
     } else {
       const Eigen::Vector2d q(c * p.x() - s * p.y() + t.x(), s * p.x() + c * p.y() + t.y());
       const double gate = thr_ang * (q - pivot).norm() + thr;
-      target.tree().radius(q, gate, nbrs, false);
+      target.tree().radius(q.cast<float>(), static_cast<float>(gate), nbrs, false);
       bool any = false;
       for (const auto& nb : nbrs) {
         if (nb.sq_distance < gate * gate) {
@@ -273,7 +263,7 @@ void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, c
   if (threads <= 1 || n_sel <= detail::kReduceBlock) {
     // Serial: straight into out.pairs, whose capacity is reused across
     // iterations (no allocation once warm).
-    std::vector<Neighbor<double>> nbrs;
+    std::vector<Neighbor<float>> nbrs;
     out.sources_with_pair = match_range(target, source, c, s, t, pivot, thr, thr_ang, offset,
                                         decimation, only_closest, 0, n_sel, out.pairs, nbrs, last);
   } else {
@@ -288,7 +278,7 @@ void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, c
     };
     Acc acc = detail::parallel_reduce(n_sel, threads, Acc{},
                                       [&](std::size_t b, std::size_t e, Acc& a) {
-      std::vector<Neighbor<double>> nbrs;
+      std::vector<Neighbor<float>> nbrs;
       a.with_pair += match_range(target, source, c, s, t, pivot, thr, thr_ang, offset, decimation,
                                  only_closest, b, e, a.pairs, nbrs, last);
     });
@@ -522,12 +512,10 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
   const std::size_t n = pairs.size();
   const float rho2 = static_cast<float>(o.kernel_rho * o.kernel_rho);
   const auto kern = [&](float x2) -> float { return o.use_kernel ? x2 / (x2 + rho2) : x2; };
-  // Squared distance from (x, y) to its nearest map point, in float.
+  // Squared distance from (x, y) to its nearest map point, in float (the
+  // target's tree computes it as MRPT's).
   const auto nearest_sq = [&](float x, float y) -> float {
-    const auto nn = target.tree().nearest(Eigen::Vector2d(x, y));
-    const float dx = x - static_cast<float>(tp[nn->index].x());
-    const float dy = y - static_cast<float>(tp[nn->index].y());
-    return dx * dx + dy * dy;
+    return target.tree().nearest(Eigen::Vector2f(x, y))->sq_distance;
   };
   std::vector<float> e, xs, ys;
   mrpt_square_errors(target, source, pairs, q, e, xs, ys);
@@ -636,7 +624,9 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
   const std::size_t decimation = o.corresponding_points_decimation;
 
   Pose2 pose = initial, last = initial;
-  double thr = o.threshold_dist, thr_ang = o.threshold_ang;
+  // MRPT keeps the two gates in float (TMatchingParams): every shrink is
+  // rounded to float, and the gate compares as MRPT's does.
+  float thr = static_cast<float>(o.threshold_dist), thr_ang = static_cast<float>(o.threshold_ang);
   std::size_t offset = 0;
   unsigned iterations = 0;
   bool keep_approaching = true;
@@ -681,8 +671,8 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
     if (!(std::abs(last.x() - pose.x()) > o.min_abs_step_trans ||
           std::abs(last.y() - pose.y()) > o.min_abs_step_trans ||
           std::abs(wrap_to_pi(last.phi() - pose.phi())) > o.min_abs_step_rot)) {
-      thr *= o.alfa;
-      thr_ang *= o.alfa;
+      thr = static_cast<float>(thr * o.alfa);
+      thr_ang = static_cast<float>(thr_ang * o.alfa);
       if (thr < o.smallest_threshold_dist) {
         keep_approaching = false;
         if (iterations < o.max_iterations) settled = true;
@@ -691,7 +681,8 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
     }
     last = pose;
     ++iterations;
-    if (iterations >= o.max_iterations && thr > o.smallest_threshold_dist) thr *= o.alfa;
+    if (iterations >= o.max_iterations && thr > o.smallest_threshold_dist)
+      thr = static_cast<float>(thr * o.alfa);
   } while ((keep_approaching && iterations < o.max_iterations) ||
            (iterations >= o.max_iterations && thr > o.smallest_threshold_dist));
 
@@ -756,14 +747,14 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
     for (const auto& x : q) r2 += (x - centroid).squaredNorm();
     const double L = std::sqrt(r2 / static_cast<double>(q.size()));
     Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    std::vector<Neighbor<double>> nn(o.normal_neighbors);
+    std::vector<Neighbor<float>> nn(o.normal_neighbors);
     for (std::size_t k = 0; k < m.pairs.size(); ++k) {
       Eigen::Vector2d nrm;
       if (target.has_normals()) {
         nrm = target.normals()[m.pairs[k].target];
       } else {
         const Eigen::Vector2d& tp = target.points()[m.pairs[k].target];
-        const std::size_t cnt = target.tree().knn(tp, o.normal_neighbors, nn);
+        const std::size_t cnt = target.tree().knn(tp.cast<float>(), o.normal_neighbors, nn);
         Eigen::Vector2d mean = Eigen::Vector2d::Zero();
         for (std::size_t j = 0; j < cnt; ++j) mean += target.points()[nn[j].index];
         mean /= static_cast<double>(std::max<std::size_t>(cnt, 1));

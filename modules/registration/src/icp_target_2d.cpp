@@ -12,6 +12,9 @@ namespace {
 
 std::vector<Eigen::Vector2d> finite_only(std::vector<Eigen::Vector2d> pts) {
   std::erase_if(pts, [](const Eigen::Vector2d& p) { return !p.allFinite(); });
+  // Float values (an out-of-range coordinate becomes infinite: dropped).
+  for (auto& p : pts) p = p.cast<float>().cast<double>();
+  std::erase_if(pts, [](const Eigen::Vector2d& p) { return !p.allFinite(); });
   return pts;
 }
 
@@ -30,7 +33,9 @@ IcpTarget2D::IcpTarget2D(std::vector<Eigen::Vector2d> points, const IcpTarget2DO
                      options.occupied_below_free_probability <= 1.0f,
                  "occupied_below_free_probability must be in (0, 1], got {}",
                  options.occupied_below_free_probability);
-  tree_ = KdTree2d(points_);
+  std::vector<Eigen::Vector2f> as_float(points_.size());
+  for (std::size_t i = 0; i < points_.size(); ++i) as_float[i] = points_[i].cast<float>();
+  tree_ = KdTree2f(std::move(as_float));
   if (options.normal_neighbors > 0 && !points_.empty())
     normals_ = estimate_normals_2d(points_, tree_, options.normal_neighbors);
 }
@@ -53,22 +58,22 @@ template IcpTarget2D IcpTarget2D::from_grid(const OccupancyGridT<std::int16_t>&,
                                             const IcpTarget2DOptions&);
 
 std::vector<Eigen::Vector2d> estimate_normals_2d(std::span<const Eigen::Vector2d> points,
-                                                 const KdTree2d& tree, std::size_t k,
+                                                 const KdTree2f& tree, std::size_t k,
                                                  int num_threads) {
   ROVE_CHECK_GE(k, std::size_t{2});
   std::vector<Eigen::Vector2d> normals(points.size(), Eigen::Vector2d::Zero());
   detail::parallel_reduce(points.size(), num_threads, 0,
                           [&](std::size_t b, std::size_t e, int&) {
-    std::vector<Neighbor<double>> nn(k);
+    std::vector<Neighbor<float>> nn(k);
     for (std::size_t i = b; i < e; ++i) {
-      const std::size_t m = tree.knn(points[i], k, nn);
+      const std::size_t m = tree.knn(points[i].cast<float>(), k, nn);
       if (m < 2) continue;
       Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-      for (std::size_t j = 0; j < m; ++j) mean += tree.indexed_point(nn[j].index);
+      for (std::size_t j = 0; j < m; ++j) mean += tree.indexed_point(nn[j].index).cast<double>();
       mean /= static_cast<double>(m);
       Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
       for (std::size_t j = 0; j < m; ++j) {
-        const Eigen::Vector2d d = tree.indexed_point(nn[j].index) - mean;
+        const Eigen::Vector2d d = tree.indexed_point(nn[j].index).cast<double>() - mean;
         C += d * d.transpose();
       }
       if (C.trace() <= 0.0) continue;

@@ -38,8 +38,9 @@ class IcpTarget2D {
  public:
   /// An empty target (every match fails with TooFewCorrespondences).
   IcpTarget2D();
-  /// Indexes the finite points of `points` (meters, map frame); non-finite
-  /// points are dropped. Preconditions (InvalidArgument): options valid.
+  /// Indexes the finite points of `points` (meters, map frame), rounded to
+  /// float as MRPT's point maps hold them; non-finite points are dropped.
+  /// Preconditions (InvalidArgument): options valid.
   explicit IcpTarget2D(std::vector<Eigen::Vector2d> points, const IcpTarget2DOptions& options = {});
   /// The x, y of every point of a cloud.
   template <PointCloudLike C>
@@ -67,10 +68,12 @@ class IcpTarget2D {
   std::size_t size() const noexcept { return points_.size(); }
   /// True when there is no point.
   bool empty() const noexcept { return points_.empty(); }
-  /// The indexed points, meters (finite only).
+  /// The indexed points, meters (finite only, float values).
   const std::vector<Eigen::Vector2d>& points() const noexcept { return points_; }
-  /// The KD-tree over points() (indices refer to points()).
-  const KdTree2d& tree() const noexcept { return tree_; }
+  /// The KD-tree over points() (indices refer to points()), searched in
+  /// float arithmetic as MRPT's KD-tree over its point maps: the same
+  /// nearest point and the same squared distance, to the bit.
+  const KdTree2f& tree() const noexcept { return tree_; }
   /// True when normals were computed.
   bool has_normals() const noexcept { return !normals_.empty(); }
   /// Unit normals, one per point (empty unless has_normals()). A point whose
@@ -82,7 +85,7 @@ class IcpTarget2D {
  private:
   std::vector<Eigen::Vector2d> points_;
   std::vector<Eigen::Vector2d> normals_;
-  KdTree2d tree_;
+  KdTree2f tree_;
   IcpTarget2DOptions options_;
 };
 
@@ -91,7 +94,7 @@ class IcpTarget2D {
 /// of the neighbourhood covariance, (0, 0) when the neighbourhood has no
 /// extent. Precondition: k ≥ 2.
 std::vector<Eigen::Vector2d> estimate_normals_2d(std::span<const Eigen::Vector2d> points,
-                                                 const KdTree2d& tree, std::size_t k,
+                                                 const KdTree2f& tree, std::size_t k,
                                                  int num_threads = 1);
 
 extern template IcpTarget2D IcpTarget2D::from_grid(const OccupancyGridT<std::int8_t>&,
