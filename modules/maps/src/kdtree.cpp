@@ -148,6 +148,13 @@ struct KdTree<Dim, Scalar>::Impl {
   std::vector<std::uint32_t> position_of;  // source index -> tree position (or kNotIndexed)
   std::vector<NodeT> nodes;                // depth-first; nodes[0] is the root
   BoxT box{};                              // bounding box of all points
+  // For searches that start near a hint instead of at the root: each node's
+  // parent (the root's: kNotIndexed), each node's cell (the region of space
+  // its points were split into; a face the cell inherits from the root box
+  // is open, ±inf, since no point lies beyond it), and each point's leaf.
+  std::vector<std::uint32_t> parent;
+  std::vector<BoxT> cells;
+  std::vector<std::uint32_t> leaf_of;  // tree position -> leaf node
 
   BoxT bounds(std::uint32_t first, std::uint32_t last) const {
     BoxT b;
@@ -188,12 +195,18 @@ struct KdTree<Dim, Scalar>::Impl {
 
   /// Builds the subtree over the points [first, last) (non-empty) of the
   /// cell `cell`; returns the bounding box of those points in `tight`.
-  void build(std::uint32_t first, std::uint32_t last, const BoxT& cell, BoxT& tight) {
+  void build(std::uint32_t first, std::uint32_t last, const BoxT& cell, const BoxT& open_cell,
+             std::uint32_t up, BoxT& tight) {
     const auto self = static_cast<std::uint32_t>(nodes.size());
     nodes.push_back(NodeT{first, last, 0, 0});
+    parent.push_back(up);
+    cells.push_back(open_cell);
     tight = bounds(first, last);
     const std::uint32_t count = last - first;
-    if (count <= options.leaf_size) return;
+    if (count <= options.leaf_size) {
+      for (std::uint32_t i = first; i < last; ++i) leaf_of[i] = self;
+      return;
+    }
 
     // Sliding midpoint (Maneewongvatana and Mount, "It's okay to be skinny,
     // if your friends are fat", CGC Workshop 1999): split the cell in the
@@ -225,11 +238,15 @@ struct KdTree<Dim, Scalar>::Impl {
     left_cell.hi[dim] = split;
     BoxT right_cell = cell;
     right_cell.lo[dim] = split;
+    BoxT left_open = open_cell;
+    left_open.hi[dim] = split;
+    BoxT right_open = open_cell;
+    right_open.lo[dim] = split;
     BoxT left_tight;
     BoxT right_tight;
-    build(first, cut, left_cell, left_tight);
+    build(first, cut, left_cell, left_open, self, left_tight);
     const auto right = static_cast<std::uint32_t>(nodes.size());
-    build(cut, last, right_cell, right_tight);
+    build(cut, last, right_cell, right_open, self, right_tight);
     nodes[self] = NodeT{right, static_cast<std::uint32_t>(dim), left_tight.hi[dim], right_tight.lo[dim]};
   }
 
@@ -294,6 +311,48 @@ struct KdTree<Dim, Scalar>::Impl {
     const Scalar min_sq = initial_distances(q, dists);
     search(0, q, min_sq, dists, set);
   }
+
+  /// The deepest node on the path from `leaf` to the root whose cell holds
+  /// q with every face at squared distance >= bound: every point outside
+  /// that node lies at least that far from q, so a search admitting only
+  /// distances below `bound` finds nothing outside it. The root when no
+  /// smaller node qualifies.
+  ///
+  /// Exact in floating point: for a point p beyond a face f along d,
+  /// |q[d] − p[d]| >= |q[d] − f| holds after rounding too (rounding is
+  /// monotone), and so does the sum of squares.
+  std::uint32_t enclosing_node(std::uint32_t leaf, const Scalar* q, Scalar bound) const {
+    std::uint32_t n = leaf;
+    while (n != 0) {
+      const BoxT& c = cells[n];
+      bool inside = true;
+      for (int d = 0; d < Dim && inside; ++d) {
+        const Scalar below = q[d] - c.lo[d];
+        const Scalar above = c.hi[d] - q[d];
+        // NaN-free: q is finite, faces are finite or ±inf (then ±inf here,
+        // and inf*inf >= bound).
+        inside = below >= 0 && above >= 0 && below * below >= bound && above * above >= bound;
+      }
+      if (inside) return n;
+      n = parent[n];
+    }
+    return 0;
+  }
+
+  /// As run(), starting from the smallest subtree around `leaf` that can
+  /// hold every point the set admits (see enclosing_node). The same result
+  /// as run(): outside that subtree no point is admitted, and inside it the
+  /// nodes are visited in the same order (ties go the same way).
+  template <class Set>
+  void run_from(std::uint32_t leaf, const Scalar* q, Set& set) const {
+    const std::uint32_t n = enclosing_node(leaf, q, set.bound());
+    if (n == 0) {
+      run(q, set);
+      return;
+    }
+    std::array<Scalar, Dim> dists{};  // q lies in the node's cell
+    search(n, q, Scalar(0), dists, set);
+  }
 };
 
 template <int Dim, typename Scalar>
@@ -335,7 +394,13 @@ KdTree<Dim, Scalar>::KdTree(FinitePoints finite, const KdTreeOptions& options) :
     // Partition the copy in place into tree order: every leaf then covers a
     // consecutive range of `points` and of `source_of`.
     m.nodes.reserve(2 * (n / std::max<std::size_t>(1, options.leaf_size / 2) + 1));
-    m.build(0, n, m.bounds(0, n), m.box);
+    m.parent.reserve(m.nodes.capacity());
+    m.cells.reserve(m.nodes.capacity());
+    m.leaf_of.resize(n);
+    typename Impl::BoxT open;
+    open.lo.fill(-std::numeric_limits<Scalar>::infinity());
+    open.hi.fill(std::numeric_limits<Scalar>::infinity());
+    m.build(0, n, m.bounds(0, n), open, kNotIndexed, m.box);
   }
   m.position_of.assign(m.source_size, kNotIndexed);
   for (std::uint32_t i = 0; i < n; ++i) m.position_of[m.source_of[i]] = i;
@@ -399,6 +464,7 @@ std::optional<Neighbor<Scalar>> KdTree<Dim, Scalar>::nearest(const Point& q, Sca
   ROVE_CHECK_GE(max_distance, Scalar(0));
   if (empty() || !finite_point<Scalar, Dim>(q.data())) return std::nullopt;
   Scalar bound = next_up(max_distance * max_distance);
+  std::uint32_t hint_leaf = kNotIndexed;
   if (hint < impl_->source_size) {
     // The hint's distance in the search's own arithmetic: one ulp above it
     // admits the hint, so the nearest within the bound is the nearest
@@ -408,10 +474,12 @@ std::optional<Neighbor<Scalar>> KdTree<Dim, Scalar>::nearest(const Point& q, Sca
     if (pos != kNotIndexed) {
       const Scalar d = sq_distance<Dim, Scalar>(q.data(), impl_->points[pos].data());
       if (d < bound) bound = next_up(d);
+      hint_leaf = impl_->leaf_of[pos];
     }
   }
   NearestSet<Scalar> set{bound};
-  impl_->run(q.data(), set);
+  if (hint_leaf != kNotIndexed) impl_->run_from(hint_leaf, q.data(), set);
+  else impl_->run(q.data(), set);
   if (set.position == kNotIndexed) return std::nullopt;
   return Result{impl_->source_of[set.position], set.worst};
 }

@@ -468,33 +468,76 @@ double parabola_slope(double w1, double w2, double w3, double q1, double q2, dou
   return (2 * a * w2) + b;
 }
 
-/// The pairs' squared errors at pose p and the source points moved by p,
-/// as MRPT's TMatchingPairList::squareErrorVector computes them: the pose
-/// and every product in float.
-void mrpt_square_errors(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
-                        const std::vector<Pair2>& pairs, const Pose2& p, std::vector<float>& e,
-                        std::vector<float>& xs, std::vector<float>& ys) {
-  const auto& tp = target.points();
+/// The pairs' coordinates as MRPT's TMatchingPairList holds them (float),
+/// by column: the source ("local") and the map ("global") point of each.
+struct FloatPairs {
+  std::vector<float> lx, ly, gx, gy;
+  FloatPairs(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
+             const std::vector<Pair2>& pairs) {
+    const auto& tp = target.points();
+    const std::size_t n = pairs.size();
+    lx.resize(n);
+    ly.resize(n);
+    gx.resize(n);
+    gy.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      lx[k] = static_cast<float>(source[pairs[k].source].x());
+      ly[k] = static_cast<float>(source[pairs[k].source].y());
+      gx[k] = static_cast<float>(tp[pairs[k].target].x());
+      gy[k] = static_cast<float>(tp[pairs[k].target].y());
+    }
+  }
+  std::size_t size() const { return lx.size(); }
+};
+
+/// MRPT's TMatchingPairList::squareErrorVector at pose p, in float: the
+/// source points moved by p (written to xs, ys when not null) and each
+/// pair's squared error (to e when not null); returns the errors' sum in
+/// float, summed in pair order as MRPT's math::sum.
+float mrpt_square_errors(const FloatPairs& fp, const Pose2& p, float* e, float* xs, float* ys) {
   const float c = static_cast<float>(std::cos(p.phi())), s = static_cast<float>(std::sin(p.phi()));
   const float px = static_cast<float>(p.x()), py = static_cast<float>(p.y());
-  e.resize(pairs.size());
-  xs.resize(pairs.size());
-  ys.resize(pairs.size());
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    const float lx = static_cast<float>(source[pairs[k].source].x());
-    const float ly = static_cast<float>(source[pairs[k].source].y());
-    const float gx = static_cast<float>(tp[pairs[k].target].x());
-    const float gy = static_cast<float>(tp[pairs[k].target].y());
-    xs[k] = px + c * lx - s * ly;
-    ys[k] = py + s * lx + c * ly;
-    e[k] = (gx - xs[k]) * (gx - xs[k]) + (gy - ys[k]) * (gy - ys[k]);
+  float sum = 0;
+  for (std::size_t k = 0; k < fp.size(); ++k) {
+    const float x = px + c * fp.lx[k] - s * fp.ly[k];
+    const float y = py + s * fp.lx[k] + c * fp.ly[k];
+    const float err = (fp.gx[k] - x) * (fp.gx[k] - x) + (fp.gy[k] - y) * (fp.gy[k] - y);
+    if (e) e[k] = err;
+    if (xs) xs[k] = x;
+    if (ys) ys[k] = y;
+    sum += err;
   }
+  return sum;
 }
 
-float float_sum(const std::vector<float>& v) {
-  float sum = 0;
-  for (float x : v) sum += x;
-  return sum;
+/// C⁻¹ of a symmetric positive definite 3×3 as MRPT's inverse_LLt computes
+/// it through Eigen (LLᵀ of a row-major float matrix, then L·Lᵀ·X = I
+/// solved column by column in the order Eigen's triangular solver uses for
+/// a row-major right-hand side: each entry is reduced by the known ones in
+/// order, then multiplied by the reciprocal of the pivot). Checked bit for
+/// bit against Eigen 3.4 on random matrices. A matrix that is not positive
+/// definite gives NaN entries.
+template <class In, class Out>
+void mrpt_inverse_llt(const In& A, Out& X) {
+  float L[3][3] = {};
+  L[0][0] = std::sqrt(A(0, 0));
+  L[1][0] = A(1, 0) / L[0][0];
+  L[2][0] = A(2, 0) / L[0][0];
+  L[1][1] = std::sqrt(A(1, 1) - L[1][0] * L[1][0]);
+  L[2][1] = (A(2, 1) - L[2][0] * L[1][0]) / L[1][1];
+  L[2][2] = std::sqrt(A(2, 2) - (L[2][0] * L[2][0] + L[2][1] * L[2][1]));
+  for (int col = 0; col < 3; ++col) {
+    float b[3] = {col == 0 ? 1.0f : 0.0f, col == 1 ? 1.0f : 0.0f, col == 2 ? 1.0f : 0.0f};
+    for (int i = 0; i < 3; ++i) {  // L·y = e_col
+      for (int k = 0; k < i; ++k) b[i] -= b[k] * L[i][k];
+      b[i] *= 1.0f / L[i][i];
+    }
+    for (int i = 2; i >= 0; --i) {  // Lᵀ·x = y
+      for (int k = i + 1; k < 3; ++k) b[i] -= b[k] * L[k][i];
+      b[i] *= 1.0f / L[i][i];
+    }
+    for (int i = 0; i < 3; ++i) X(i, col) = b[i];
+  }
 }
 
 /// One pairing of MRPT's icpLevenbergMarquardt (see IcpAlgorithm) in MRPT
@@ -513,13 +556,16 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
   const float rho2 = static_cast<float>(o.kernel_rho * o.kernel_rho);
   const auto kern = [&](float x2) -> float { return o.use_kernel ? x2 / (x2 + rho2) : x2; };
   // Squared distance from (x, y) to its nearest map point, in float (the
-  // target's tree computes it as MRPT's).
-  const auto nearest_sq = [&](float x, float y) -> float {
-    return target.tree().nearest(Eigen::Vector2f(x, y))->sq_distance;
+  // target's tree computes it as MRPT's). The query is a source point
+  // shifted by ±Axy: its pair's map point, given as the hint, bounds the
+  // search (the same nearest point as an unbounded search, far fewer nodes).
+  constexpr float kNoBound = std::numeric_limits<float>::infinity();
+  const auto nearest_sq = [&](float x, float y, std::uint32_t partner) -> float {
+    return target.tree().nearest(Eigen::Vector2f(x, y), kNoBound, partner)->sq_distance;
   };
-  std::vector<float> e, xs, ys;
-  mrpt_square_errors(target, source, pairs, q, e, xs, ys);
-  double ose = float_sum(e);
+  const FloatPairs fp(target, source, pairs);
+  std::vector<float> e(n), xs(n), ys(n);
+  double ose = mrpt_square_errors(fp, q, e.data(), xs.data(), ys.data());
   const double c = std::cos(q.phi()), s = std::sin(q.phi());
   const double axy = o.axy_aprox_derivatives;
   // MRPT's CMatrixFloat: row-major, 3 × n.
@@ -543,9 +589,14 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
     const double ly = static_cast<float>(source[pairs[k].source].y());
     // ∂/∂x: distances to the nearest map point at x − Axy, x, x + Axy.
     const double x1 = xk - axy, x3 = xk + axy;
-    const double q2 = kern(nearest_sq(xk, yk));
-    J(0, k) = static_cast<float>(parabola_slope(x1, xk, x3, kern(nearest_sq(static_cast<float>(x1), yk)), q2,
-                                                kern(nearest_sq(static_cast<float>(x3), yk))));
+    const std::uint32_t partner = pairs[k].target;
+    // At (x, y) itself the nearest map point is the pair's: the pairing
+    // moved the point to the same float coordinates (same formula, same
+    // pose) and kept the nearest point's float distance.
+    const double q2 = kern(static_cast<float>(pairs[k].sq_dist));
+    J(0, k) = static_cast<float>(parabola_slope(x1, xk, x3,
+                                                kern(nearest_sq(static_cast<float>(x1), yk, partner)), q2,
+                                                kern(nearest_sq(static_cast<float>(x3), yk, partner))));
     // ∂/∂y: distances to the pair's own map point (MRPT reuses q2).
     const float fx2 = (gx - xk) * (gx - xk);
     const double y1 = yk - axy, y3 = yk + axy;
@@ -555,7 +606,7 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
     J(2, k) = static_cast<float>(static_cast<double>(J(0, k)) * (-s * lx - c * ly) +
                                  static_cast<double>(J(1, k)) * (c * lx - s * ly));
   }
-  alignas(kAlign) std::array<float, 9> h_buf, c_buf, c_inv_buf, identity_buf;
+  alignas(kAlign) std::array<float, 9> h_buf, c_buf, c_inv_buf;
   using Map33 = Eigen::Map<RowMajor33f, kAlign, Eigen::InnerStride<1>>;
   Map33 H(h_buf.data());
   for (int r = 0; r < 3; ++r)
@@ -564,11 +615,7 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
       for (std::size_t k = 0; k < n; ++k) sum += J(r, k) * J(col, k);
       H(r, col) = H(col, r) = sum;
     }
-  const Eigen::Map<Eigen::VectorXf> err(e.data(), static_cast<Eigen::Index>(n));
-  Map33 identity(identity_buf.data());
-  identity.setIdentity();
   double lambda = o.lm_initial_lambda;
-  std::vector<float> e_new, xs_new, ys_new;
   // MRPT: while (keep && ++n < 100).
   bool keep = true;
   for (unsigned it = 1; keep && it < 100; ++it) {
@@ -576,12 +623,20 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
     C = H;
     for (int d = 0; d < 3; ++d) C(d, d) *= (1 + lambda);
     Map33 C_inv(c_inv_buf.data());
-    C_inv = C.llt().solve(identity).eval();
-    const Eigen::Vector3f delta = (C_inv * J * err).eval();
+    mrpt_inverse_llt(C, C_inv);
+    // MRPT's (C⁻¹·J·e) as Eigen evaluates it, without its 3 × n temporary:
+    // T(i, k) = c₀J₀ₖ + (c₁J₁ₖ + c₂J₂ₖ), then Σₖ T(i, k)·eₖ in order (checked
+    // bit for bit against the Eigen expression over MRPT's types).
+    Eigen::Vector3f delta;
+    for (int r = 0; r < 3; ++r) {
+      const float c0 = C_inv(r, 0), c1 = C_inv(r, 1), c2 = C_inv(r, 2);
+      float sum = 0;
+      for (std::size_t k = 0; k < n; ++k) sum += (c0 * J(0, k) + (c1 * J(1, k) + c2 * J(2, k))) * e[k];
+      delta[r] = sum;
+    }
     if (!delta.allFinite()) break;
     const Pose2 q_new(q.x() - delta[0], q.y() - delta[1], q.phi() - delta[2]);
-    mrpt_square_errors(target, source, pairs, q_new, e_new, xs_new, ys_new);
-    const float ose_new = float_sum(e_new);
+    const float ose_new = mrpt_square_errors(fp, q_new, nullptr, nullptr, nullptr);
     keep = std::abs(delta[0]) > o.min_abs_step_trans || std::abs(delta[1]) > o.min_abs_step_trans ||
            std::abs(delta[2]) > o.min_abs_step_rot;
     if (ose_new < ose) {
