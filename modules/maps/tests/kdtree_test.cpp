@@ -337,5 +337,45 @@ TEST(KdTree, MatchesBruteForceOnTheRealClouds) {
   }
 }
 
+// A hinted search starts at the hint's leaf and searches only the smallest
+// subtree whose cell holds the search ball: on a grid with duplicate points
+// (ties everywhere) it must pick the very point the unhinted search picks,
+// for hints near and far, in 2D and 3D.
+TEST(KdTree, HintedNearestBreaksTiesAsTheUnhinted) {
+  std::vector<Eigen::Vector2f> pts2;
+  std::vector<Eigen::Vector3f> pts3;
+  for (int i = 0; i < 24; ++i)
+    for (int j = 0; j < 24; ++j)
+      for (int dup = 0; dup < 2; ++dup) {
+        pts2.emplace_back(0.1f * i, 0.1f * j);
+        pts3.emplace_back(0.1f * i, 0.1f * j, 0.1f * ((i + j) % 3));
+      }
+  const KdTree2f t2(pts2);
+  const KdTree3f t3(pts3);
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> cell(0, 46);
+  const auto n = static_cast<std::uint32_t>(pts2.size());
+  for (int t = 0; t < 400; ++t) {
+    // Queries on grid points, edge midpoints and cell centres: all ties.
+    const Eigen::Vector2f q2(0.05f * cell(rng), 0.05f * cell(rng));
+    const Eigen::Vector3f q3(q2.x(), q2.y(), 0.05f * (cell(rng) % 5));
+    const auto plain2 = t2.nearest(q2, 0.3f);
+    const auto plain3 = t3.nearest(q3, 0.3f);
+    for (std::uint32_t hint : {static_cast<std::uint32_t>(rng() % n), plain2 ? plain2->index : 0u,
+                               plain3 ? plain3->index : 0u, n - 1}) {
+      const auto h2 = t2.nearest(q2, 0.3f, hint);
+      const auto h3 = t3.nearest(q3, 0.3f, hint);
+      ASSERT_EQ(h2.has_value(), plain2.has_value());
+      ASSERT_EQ(h3.has_value(), plain3.has_value());
+      if (plain2) {
+        EXPECT_EQ(*h2, *plain2) << "query " << q2.transpose() << " hint " << hint;
+      }
+      if (plain3) {
+        EXPECT_EQ(*h3, *plain3) << "query " << q3.transpose() << " hint " << hint;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rove

@@ -108,9 +108,12 @@ class KdTree {
   std::optional<Result> nearest(const Point& q, Scalar max_distance) const;
   /// As above, with a guess: `hint` is the source index of a point likely
   /// to be (nearly) the nearest, e.g. the partner of the same query point
-  /// in the previous ICP iteration. Its distance bounds the search, which
-  /// then prunes most of the tree; the result is the same as without the
-  /// hint. A hint that is out of range or not indexed is ignored.
+  /// in the previous ICP iteration. Its distance bounds the search, and the
+  /// search starts at the hint's leaf and climbs only to the smallest node
+  /// whose cell holds the whole ball of that radius (nothing outside it can
+  /// be nearer), so it visits a few nodes instead of descending from the
+  /// root. The result is the same as without the hint, ties included. A
+  /// hint that is out of range or not indexed is ignored.
   std::optional<Result> nearest(const Point& q, Scalar max_distance, std::uint32_t hint) const;
 
   /// The min(k, size()) nearest points to q, nearest first, written to the
