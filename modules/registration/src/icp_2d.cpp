@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <memory>
-#include <new>
 #include <cmath>
 #include <limits>
 
@@ -546,12 +544,11 @@ void mrpt_inverse_llt(const In& A, Out& X) {
 /// (distances to the nearest map point in float, as its float KD-tree;
 /// the kernel x²/(x² + ρ²) in float; slopes in double, stored in float),
 /// H = J·Jᵀ summed in float, then damped steps x ← x − (H + λ·diag H)⁻¹·J·e
-/// on the fixed J and e: the 3×3 inverse by Eigen's LLᵀ and the product
-/// C⁻¹·J·e by the same Eigen expression over the same row-major float
-/// storage as MRPT's, so Eigen sums them in the same order.
+/// on the fixed J and e, with the 3×3 inverse (MRPT's inverse_LLt) and the
+/// product C⁻¹·J·e computed in the order Eigen evaluates MRPT's expressions
+/// (mrpt_inverse_llt; the loop below), so the sums round as MRPT's do.
 Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
                      const std::vector<Pair2>& pairs, Pose2 q, const Icp2dOptions& o) {
-  const auto& tp = target.points();
   const std::size_t n = pairs.size();
   const float rho2 = static_cast<float>(o.kernel_rho * o.kernel_rho);
   const auto kern = [&](float x2) -> float { return o.use_kernel ? x2 / (x2 + rho2) : x2; };
@@ -568,25 +565,13 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
   double ose = mrpt_square_errors(fp, q, e.data(), xs.data(), ys.data());
   const double c = std::cos(q.phi()), s = std::sin(q.phi());
   const double axy = o.axy_aprox_derivatives;
-  // MRPT's CMatrixFloat: row-major, 3 × n.
-  using RowMajorXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  using RowMajor33f = Eigen::Matrix<float, 3, 3, Eigen::RowMajor, 3, 3>;
-  // MRPT's matrices live in 32-byte aligned storage and are used through
-  // Maps that say so; the same here (the alignment is part of the type
-  // Eigen selects its product kernels by).
-  constexpr std::size_t kAlign = 32;
-  struct AlignedDelete {
-    void operator()(float* p) const { ::operator delete[](p, std::align_val_t(kAlign)); }
-  };
-  const std::unique_ptr<float[], AlignedDelete> jac(
-      static_cast<float*>(::operator new[](3 * std::max<std::size_t>(n, 1) * sizeof(float), std::align_val_t(kAlign))));
-  Eigen::Map<RowMajorXf, kAlign, Eigen::InnerStride<1>> J(jac.get(), 3, static_cast<Eigen::Index>(n));
+  // The Jacobian, 3 × n (MRPT's CMatrixFloat dJ_dq), by rows.
+  std::array<std::vector<float>, 3> J;
+  for (auto& row : J) row.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     const float xk = xs[k], yk = ys[k];
-    const float gx = static_cast<float>(tp[pairs[k].target].x());
-    const float gy = static_cast<float>(tp[pairs[k].target].y());
-    const double lx = static_cast<float>(source[pairs[k].source].x());
-    const double ly = static_cast<float>(source[pairs[k].source].y());
+    const float gx = fp.gx[k], gy = fp.gy[k];
+    const double lx = fp.lx[k], ly = fp.ly[k];  // MRPT's float local point
     // ∂/∂x: distances to the nearest map point at x − Axy, x, x + Axy.
     const double x1 = xk - axy, x3 = xk + axy;
     const std::uint32_t partner = pairs[k].target;
@@ -594,35 +579,33 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
     // moved the point to the same float coordinates (same formula, same
     // pose) and kept the nearest point's float distance.
     const double q2 = kern(static_cast<float>(pairs[k].sq_dist));
-    J(0, k) = static_cast<float>(parabola_slope(x1, xk, x3,
+    J[0][k] = static_cast<float>(parabola_slope(x1, xk, x3,
                                                 kern(nearest_sq(static_cast<float>(x1), yk, partner)), q2,
                                                 kern(nearest_sq(static_cast<float>(x3), yk, partner))));
     // ∂/∂y: distances to the pair's own map point (MRPT reuses q2).
     const float fx2 = (gx - xk) * (gx - xk);
     const double y1 = yk - axy, y3 = yk + axy;
-    J(1, k) = static_cast<float>(parabola_slope(
+    J[1][k] = static_cast<float>(parabola_slope(
         y1, yk, y3, kern(static_cast<float>(fx2 + (gy - y1) * (gy - y1))), q2,
         kern(static_cast<float>(fx2 + (gy - y3) * (gy - y3)))));
-    J(2, k) = static_cast<float>(static_cast<double>(J(0, k)) * (-s * lx - c * ly) +
-                                 static_cast<double>(J(1, k)) * (c * lx - s * ly));
+    J[2][k] = static_cast<float>(static_cast<double>(J[0][k]) * (-s * lx - c * ly) +
+                                 static_cast<double>(J[1][k]) * (c * lx - s * ly));
   }
-  alignas(kAlign) std::array<float, 9> h_buf, c_buf, c_inv_buf;
-  using Map33 = Eigen::Map<RowMajor33f, kAlign, Eigen::InnerStride<1>>;
-  Map33 H(h_buf.data());
+  // H = J·Jᵀ (MRPT's matProductOf_AAt: float sums in order).
+  Eigen::Matrix3f H;
   for (int r = 0; r < 3; ++r)
     for (int col = r; col < 3; ++col) {
       float sum = 0;
-      for (std::size_t k = 0; k < n; ++k) sum += J(r, k) * J(col, k);
+      for (std::size_t k = 0; k < n; ++k) sum += J[r][k] * J[col][k];
       H(r, col) = H(col, r) = sum;
     }
   double lambda = o.lm_initial_lambda;
   // MRPT: while (keep && ++n < 100).
   bool keep = true;
   for (unsigned it = 1; keep && it < 100; ++it) {
-    Map33 C(c_buf.data());
-    C = H;
-    for (int d = 0; d < 3; ++d) C(d, d) *= (1 + lambda);
-    Map33 C_inv(c_inv_buf.data());
+    Eigen::Matrix3f C = H;
+    for (int d = 0; d < 3; ++d) C(d, d) *= (1 + lambda);  // float *= double, as MRPT
+    Eigen::Matrix3f C_inv;
     mrpt_inverse_llt(C, C_inv);
     // MRPT's (C⁻¹·J·e) as Eigen evaluates it, without its 3 × n temporary:
     // T(i, k) = c₀J₀ₖ + (c₁J₁ₖ + c₂J₂ₖ), then Σₖ T(i, k)·eₖ in order (checked
@@ -631,7 +614,7 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
     for (int r = 0; r < 3; ++r) {
       const float c0 = C_inv(r, 0), c1 = C_inv(r, 1), c2 = C_inv(r, 2);
       float sum = 0;
-      for (std::size_t k = 0; k < n; ++k) sum += (c0 * J(0, k) + (c1 * J(1, k) + c2 * J(2, k))) * e[k];
+      for (std::size_t k = 0; k < n; ++k) sum += (c0 * J[0][k] + (c1 * J[1][k] + c2 * J[2][k])) * e[k];
       delta[r] = sum;
     }
     if (!delta.allFinite()) break;
