@@ -149,7 +149,7 @@ std::vector<Eigen::Vector3f> scan_points_mrpt(const RangeScan2D& scan, const Pos
   // double instead moves points by an ulp or two, and ICP-SLAM runs that
   // match MRPT's to 1e-6 m can then take another gate schedule and part by
   // centimeters (docs/icp-slam.md).
-  Eigen::Matrix<float, 3, 2> Rf = R.leftCols<2>().cast<float>();
+  const Eigen::Matrix<float, 3, 2> Rf = R.leftCols<2>().cast<float>();
   const Eigen::Vector3f tf = t.cast<float>();
   const double step = (scan.right_to_left ? 1.0 : -1.0) * (scan.aperture / static_cast<double>(n - 1));
   double angle = (scan.right_to_left ? -0.5 : 0.5) * scan.aperture;
