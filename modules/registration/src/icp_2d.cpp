@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -63,7 +64,7 @@ double mrpt_float_key(const IniFile& ini, const std::string& s, const char* key,
 /// MRPT's DEG2RAD of a float read: x·float(π)/180 in float.
 double mrpt_float_deg_key(const IniFile& ini, const std::string& s, const char* key, double fallback_rad) {
   const float deg = static_cast<float>(ini.get_or<double>(s, key, rad_to_deg(fallback_rad)));
-  return deg * static_cast<float>(3.14159265358979323846) / 180.0f;
+  return deg * std::numbers::pi_v<float> / 180.0f;
 }
 }  // namespace
 

@@ -11,8 +11,8 @@ namespace rove {
 namespace {
 
 std::vector<Eigen::Vector2d> finite_only(std::vector<Eigen::Vector2d> pts) {
-  std::erase_if(pts, [](const Eigen::Vector2d& p) { return !p.allFinite(); });
-  // Float values (an out-of-range coordinate becomes infinite: dropped).
+  // Float values; a non-finite point, or one out of float's range (it
+  // becomes infinite), is dropped.
   for (auto& p : pts) p = p.cast<float>().cast<double>();
   std::erase_if(pts, [](const Eigen::Vector2d& p) { return !p.allFinite(); });
   return pts;
