@@ -99,6 +99,28 @@ inline void free_run(Cell* data, std::ptrdiff_t major, std::ptrdiff_t major_stri
   }
 }
 
+// free_run for the usual case obs == kMax − thres, where the free update
+// v < thres ? v + obs : kMax is the saturating add min(v + obs, kMax) (a
+// compare and a conditional move). The minor coordinate is a 64-bit
+// accumulator, so it indexes without a sign extension; kXMajor fixes the
+// strides: x-major steps one column and moves rows (× sx), y-major steps
+// one row (sx) and moves columns. Same cells, same values as free_run.
+template <bool kXMajor, GridCell Cell>
+inline void free_run_saturating(Cell* data, std::ptrdiff_t major, std::ptrdiff_t sx, int dir,
+                                std::int64_t f, std::int64_t fr_minor, int n_steps, int obs) {
+  constexpr int kMax = LogOddsTraits<Cell>::kMax;
+  Cell* base = data + major;
+  const std::ptrdiff_t major_stride = kXMajor ? dir : dir * sx;
+#pragma GCC unroll 4
+  for (int s = 0; s < n_steps; ++s) {
+    Cell* p = base + (kXMajor ? (f >> kFrBits) * sx : (f >> kFrBits));
+    const int v = *p + obs;
+    *p = static_cast<Cell>(v < kMax ? v : kMax);
+    base += major_stride;
+    f += fr_minor;
+  }
+}
+
 #if defined(__SSE2__)
 // Cells [0, len) at p, len <= 16 bytes' worth, get v ↦ min(v + obs, kMax):
 // one 16-byte load, saturating add and store; the lanes past len add 0 and
@@ -301,7 +323,13 @@ template <GridCell Cell>
       free_rows(data, sx * sy, sx, a, dir, f, fr, n, r.obs);
     } else
 #endif
-    if (x_major) {
+    if (r.obs == kMax - thres_free) {
+      if (x_major) {
+        free_run_saturating<true>(data, a, sx, dir, f, fr, n, r.obs);
+      } else {
+        free_run_saturating<false>(data, a * sx, sx, dir, f, fr, n, r.obs);
+      }
+    } else if (x_major) {
       // Major axis x: cell (a ± j, (f + j·fr) >> kFrBits).
       free_run(data, a, dir, sx, f, fr, n, r.obs, thres_free);
     } else {
