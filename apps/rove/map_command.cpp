@@ -10,6 +10,7 @@
 #include "rove/maps/grid_binary.h"
 #include "rove/maps/grid_image.h"
 #include "rove/maps/metric_map_builder.h"
+#include "rove/maps/grid_entropy.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
 #include "rove/maps/mrpt_gridmap.h"
 #include "rove/maps/multi_metric_map.h"
@@ -67,6 +68,13 @@ std::string find_map_section(const IniFile& ini) {
                     "name it with --section");
 }
 
+// One line on a grid's entropy and information (grid_entropy.h).
+std::string entropy_line(const OccupancyGrid& grid) {
+  const GridEntropy e = grid_entropy(grid);
+  return fmt::format("    entropy {:.1f} nats, information {:.1f} ({} mapped cells, {:.2f} m2, mean {:.4f})\n",
+                     e.entropy, e.information, e.mapped_cells, e.mapped_area, e.mean_information);
+}
+
 int run_map_build(const MapBuildArgs& a) {
   const IniFile ini = IniFile::load(a.config, IniOptions{.strict = false});
   const std::string section = a.section.empty() ? find_map_section(ini) : a.section;
@@ -98,11 +106,18 @@ int run_map_build(const MapBuildArgs& a) {
     for (std::size_t i = 0; i < mm.size(); ++i) {
       const auto& e = mm.entries()[i];
       const auto st = e.map->statistics();
+      std::string entropy;
+      if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
+        const GridEntropy h = grid_entropy(g->grid());
+        entropy = fmt::format(", \"entropy\": {:.6f}, \"information\": {:.6f}, \"mapped_cells\": {}, "
+                              "\"mapped_area_m2\": {:.6f}",
+                              h.entropy, h.information, h.mapped_cells, h.mapped_area);
+      }
       maps += fmt::format(
           "{}    {{\"index\": {}, \"kind\": \"{}\", \"section\": \"{}\", \"{}\": {}, "
-          "\"total_cells\": {}, \"observations_inserted\": {}, \"insertion_enabled\": {}}}",
+          "\"total_cells\": {}, \"observations_inserted\": {}, \"insertion_enabled\": {}{}}}",
           i ? ",\n" : "", i, e.map->kind(), json_escape(e.section_prefix), st.unit, st.elements,
-          st.total_cells, e.observations_inserted, e.params.enable_insertion);
+          st.total_cells, e.observations_inserted, e.params.enable_insertion, entropy);
     }
     std::string ignored;
     for (std::size_t i = 0; i < report.ignored_keys.size(); ++i) {
@@ -141,6 +156,9 @@ int run_map_build(const MapBuildArgs& a) {
                st.elements, st.unit,
                st.total_cells ? fmt::format(" of {} cells", st.total_cells) : std::string(),
                extent, e.observations_inserted, e.params.enable_insertion ? "" : " (insertion disabled)");
+    if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
+      fmt::print("{}", entropy_line(g->grid()));
+    }
   }
   for (const auto& k : report.ignored_keys) {
     fmt::print("  without effect: [{}] {}: {}\n", k.section, k.key, k.reason);
@@ -199,6 +217,7 @@ int run_map_convert(const MapConvertArgs& a) {
   fmt::print("{} {}: {} x {} cells of {} m, x [{}, {}] y [{}, {}] m\n", from, a.input,
              grid.size_x(), grid.size_y(), grid.resolution(), grid.x_min(), grid.x_max(),
              grid.y_min(), grid.y_max());
+  fmt::print("{}", entropy_line(grid));
   for (const auto& f : written) fmt::print("  wrote {}\n", f);
   return 0;
 }

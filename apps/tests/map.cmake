@@ -80,3 +80,12 @@ add_test(NAME cli.map_convert_yaw_rejected COMMAND rove map convert
   ${rove_map_dir}/convert/yaw.yaml ${rove_map_dir}/convert/yaw.rovegrid)
 set_tests_properties(cli.map_convert_yaw_rejected PROPERTIES LABELS cli FIXTURES_REQUIRED map_convert_1
   PASS_REGULAR_EXPRESSION "yaw\\.yaml.*origin.*yaw 0\\.5")
+
+# Entropy and information of a grid (grid_entropy.h): MRPT's uwb demo map
+# has 455,000 cells of which 354,316 are unknown (p = 0.5), so 100,684 are
+# mapped (GridEntropy.MatchesMrptComputeEntropyOnMrptGrids ties these
+# numbers to MRPT's computeEntropy).
+add_test(NAME cli.map_convert_prints_entropy COMMAND rove map convert
+  ${PROJECT_SOURCE_DIR}/modules/maps/tests/data/grid_uwb_demo.gridmap.gz ${rove_map_dir}/uwb.rovegrid)
+set_tests_properties(cli.map_convert_prints_entropy PROPERTIES LABELS cli
+  PASS_REGULAR_EXPRESSION "700 x 650 cells of 0\\.04 m[^\n]*\n    entropy [0-9.]+ nats, information [0-9.]+ \\(100684 mapped cells, 161\\.09 m2")

@@ -6,6 +6,7 @@
 //   grid_<name>.bin.gz   grid built by COccupancyGridMap2D (format below)
 //   grid_likelihood_reference.txt   likelihoods of chosen scans/poses
 //   grid_gridmap_digest.txt         geometry + FNV-1a hash of .gridmap files
+//   grid_entropy_reference.txt      computeEntropy of the grids above
 //
 // grid_<name>.bin.gz (little-endian): u32 magic 0x44495247 ("GRID"),
 // f32 x_min, x_max, y_min, y_max, resolution, u32 size_x, size_y,
@@ -30,6 +31,7 @@
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 using mrpt::maps::COccupancyGridMap2D;
@@ -228,6 +230,9 @@ int main(int argc, char** argv) {
   }
   std::fclose(lf);
 
+  std::vector<std::pair<std::string, COccupancyGridMap2D>> grids_for_entropy = {
+      {"grid_malaga_005", g_malaga}, {"grid_locdemo_widening_010", g_loc}, {"grid_telecom_005", g_tel}};
+
   // 3) .gridmap digests.
   std::ofstream dg(out + "/grid_gridmap_digest.txt");
   dg << "# file size_x size_y x_min x_max y_min y_max resolution fnv1a64(cells) "
@@ -252,6 +257,19 @@ int main(int argc, char** argv) {
                   name.c_str(), g.getSizeX(), g.getSizeY(), g.getXMin(), g.getXMax(), g.getYMin(),
                   g.getYMax(), g.getResolution(), fnv1a(m.data(), m.size()), occ, fr);
     dg << buf;
+    grids_for_entropy.emplace_back(name, g);
   }
+
+  // 4) computeEntropy of every grid above.
+  FILE* ef = std::fopen((out + "/grid_entropy_reference.txt").c_str(), "w");
+  std::fprintf(ef, "# grid H I mean_H mean_I effectiveMappedArea effectiveMappedCells "
+                   "(MRPT 2.5.8 COccupancyGridMap2D::computeEntropy)\n");
+  for (const auto& [name, g] : grids_for_entropy) {
+    COccupancyGridMap2D::TEntropyInfo info;
+    g.computeEntropy(info);
+    std::fprintf(ef, "%s %.17g %.17g %.17g %.17g %.17g %lu\n", name.c_str(), info.H, info.I,
+                 info.mean_H, info.mean_I, info.effectiveMappedArea, info.effectiveMappedCells);
+  }
+  std::fclose(ef);
   return 0;
 }

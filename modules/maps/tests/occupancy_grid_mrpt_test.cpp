@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "rove/maps/grid_entropy.h"
 #include "rove/maps/grid_insertion.h"
 #include "rove/maps/grid_likelihood.h"
 #include "rove/maps/mrpt_gridmap.h"
@@ -236,6 +237,70 @@ TEST(OccupancyGridMrpt, GridmapFilesMatchMrptCells) {
     ++n;
   }
   EXPECT_EQ(n, 2);
+}
+
+}  // namespace
+}  // namespace rove
+
+namespace rove {
+namespace {
+
+// MRPT's computeEntropy on its own grids (tools/mrpt_grid_reference):
+// EntropyTable::kMrpt reproduces every number; kExact differs only by the
+// unknown cells (value 0) and cells at −1, which MRPT's table zeroes.
+TEST(GridEntropy, MatchesMrptComputeEntropyOnMrptGrids) {
+  std::ifstream in(kData + "grid_entropy_reference.txt");
+  ASSERT_TRUE(in.good());
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    std::string name;
+    double H, I, mean_H, mean_I, area;
+    std::uint64_t cells;
+    ls >> name >> H >> I >> mean_H >> mean_I >> area >> cells;
+    ASSERT_FALSE(ls.fail()) << line;
+    OccupancyGrid grid;
+    if (name.find(".gridmap") != std::string::npos) {
+      const std::string path = name.rfind("uwb", 0) == 0 ? kData + "grid_uwb_demo.gridmap.gz"
+                                                          : kDatasets + name;
+      grid = load_mrpt_gridmap(path).grid;
+    } else {
+      grid = read_ref(name + ".bin.gz").grid;
+    }
+    const GridEntropy m = grid_entropy(grid, EntropyTable::kMrpt);
+    // Same float table, same double sums in the same order: equal to the
+    // last digit printed (17 significant).
+    EXPECT_DOUBLE_EQ(m.entropy, H) << name;
+    EXPECT_DOUBLE_EQ(m.information, I) << name;
+    EXPECT_DOUBLE_EQ(m.mean_entropy, mean_H) << name;
+    EXPECT_DOUBLE_EQ(m.mean_information, mean_I) << name;
+    EXPECT_DOUBLE_EQ(m.mapped_area, area) << name;
+    EXPECT_EQ(m.mapped_cells, cells) << name;
+
+    // The exact table: the same sum plus the true entropy of the cells at
+    // 0 (ln 2: unknown, not mapped) and −1, which MRPT's table zeroes.
+    std::uint64_t at_zero = 0, at_minus_one = 0;
+    for (const std::int8_t c : grid.cells()) {
+      at_zero += c == 0;
+      at_minus_one += c == -1;
+    }
+    const float p = LogOddsLut<std::int8_t>::instance().l2p(-1);
+    const double h_minus_one = -p * std::log(p) - (1 - p) * std::log(1 - p);
+    const GridEntropy e = grid_entropy(grid);
+    EXPECT_NEAR(e.entropy, H + at_zero * std::log(2.0) + at_minus_one * h_minus_one, 1e-6 * H)
+        << name;
+    EXPECT_EQ(e.mapped_cells, cells - at_zero) << name;
+    EXPECT_GT(at_zero, 0u) << name;
+    // Information of the mapped cells lies in [0, 1] each.
+    EXPECT_GE(e.information, 0.0);
+    EXPECT_LE(e.information, static_cast<double>(e.mapped_cells));
+    EXPECT_NEAR(e.mapped_area, static_cast<double>(e.mapped_cells) * grid.resolution() * grid.resolution(),
+                1e-6 * e.mapped_area + 1e-9);
+    ++n;
+  }
+  EXPECT_EQ(n, 5);
 }
 
 }  // namespace

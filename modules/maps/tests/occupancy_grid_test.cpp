@@ -13,6 +13,7 @@
 #include "rove/core/error.h"
 #include "rove/core/ini.h"
 #include "rove/maps/grid_clearance.h"
+#include "rove/maps/grid_entropy.h"
 #include "rove/maps/grid_insertion.h"
 #include "rove/maps/grid_likelihood.h"
 #include "rove/maps/mrpt_gridmap.h"
@@ -172,6 +173,76 @@ TEST(MrptGridmap, TruncatedAndLyingFilesGiveParseErrors) {
   InArchive ar(in);
   EXPECT_THROW(read_mrpt_gridmap(ar), ParseError);
 }
+
+}  // namespace
+}  // namespace rove
+
+namespace rove {
+namespace {
+
+// Binary entropy of a probability, in double (the oracle for the float
+// table).
+double binary_entropy(double p) {
+  return (p <= 0 || p >= 1) ? 0.0 : -p * std::log(p) - (1 - p) * std::log(1 - p);
+}
+
+template <typename Cell>
+void check_entropy_properties() {
+  using Grid = OccupancyGridT<Cell>;
+  // Unknown everywhere: ln 2 per cell, nothing mapped.
+  Grid unknown(0, 2, 0, 1, 0.1f);
+  const std::size_t n = unknown.cells().size();
+  ASSERT_EQ(n, 200u);
+  const GridEntropy u = grid_entropy(unknown);
+  EXPECT_NEAR(u.entropy, n * std::log(2.0), 1e-5);
+  EXPECT_EQ(u.mapped_cells, 0u);
+  EXPECT_EQ(u.information, 0.0);
+  EXPECT_EQ(u.mean_entropy, 0.0);
+  EXPECT_EQ(u.mapped_area, 0.0);
+  // MRPT's table counts the same unknown cells as mapped and certain.
+  const GridEntropy um = grid_entropy(unknown, EntropyTable::kMrpt);
+  EXPECT_EQ(um.entropy, 0.0);
+  EXPECT_EQ(um.mapped_cells, n);
+  EXPECT_NEAR(um.information, static_cast<double>(n), 1e-9);
+
+  // Cells at chosen probabilities: the sums of their entropies, mapped
+  // cells those clearly away from 0.5, information 1 − h/ln 2 each.
+  Grid g(0, 2, 0, 1, 0.1f);
+  const auto& lut = LogOddsLut<Cell>::instance();
+  const float probs[] = {0.02f, 0.3f, 0.45f, 0.499f, 0.8f, 0.97f};
+  double H = 0, I = 0;
+  std::uint64_t mapped = 0;
+  for (std::size_t i = 0; i < std::size(probs); ++i) {
+    const Cell c = lut.p2l(probs[i]);
+    g.set_cell(static_cast<int>(i), 3, c);
+    const double h = binary_entropy(lut.l2p(c));
+    H += h;
+    if (h < std::log(2.0) - 0.001) {
+      ++mapped;
+      I += 1 - h / std::log(2.0);
+    }
+  }
+  H += (n - std::size(probs)) * std::log(2.0);
+  const GridEntropy e = grid_entropy(g);
+  EXPECT_NEAR(e.entropy, H, 1e-4);
+  EXPECT_EQ(e.mapped_cells, mapped);
+  EXPECT_EQ(mapped, 5u);  // all but p = 0.499
+  EXPECT_NEAR(e.information, I, 1e-5);
+  EXPECT_NEAR(e.mean_entropy, e.entropy / mapped, 1e-12);
+  EXPECT_NEAR(e.mean_information, e.information / mapped, 1e-12);
+  EXPECT_NEAR(e.mapped_area, mapped * 0.01, 1e-6);
+
+  // Saturated cells carry almost one unit of information each.
+  Grid sat(0, 1, 0, 1, 0.5f);
+  for (Cell& c : sat.mutable_cells()) c = LogOddsTraits<Cell>::kMax;
+  const GridEntropy s = grid_entropy(sat);
+  EXPECT_EQ(s.mapped_cells, sat.cells().size());
+  EXPECT_GT(s.mean_information, 0.99);
+  EXPECT_LE(s.mean_information, 1.0);
+}
+
+TEST(GridEntropy, PropertiesOn8BitCells) { check_entropy_properties<std::int8_t>(); }
+TEST(GridEntropy, PropertiesOn16BitCells) { check_entropy_properties<std::int16_t>(); }
 
 }  // namespace
 }  // namespace rove
