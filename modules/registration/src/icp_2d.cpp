@@ -593,13 +593,19 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
                                  static_cast<double>(J[1][k]) * (c * lx - s * ly));
   }
   // H = J·Jᵀ (MRPT's matProductOf_AAt: float sums in order).
+  // The six sums in one pass (independent chains, each in MRPT's order).
+  float h00 = 0, h01 = 0, h02 = 0, h11 = 0, h12 = 0, h22 = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const float j0 = J[0][k], j1 = J[1][k], j2 = J[2][k];
+    h00 += j0 * j0;
+    h01 += j0 * j1;
+    h02 += j0 * j2;
+    h11 += j1 * j1;
+    h12 += j1 * j2;
+    h22 += j2 * j2;
+  }
   Eigen::Matrix3f H;
-  for (int r = 0; r < 3; ++r)
-    for (int col = r; col < 3; ++col) {
-      float sum = 0;
-      for (std::size_t k = 0; k < n; ++k) sum += J[r][k] * J[col][k];
-      H(r, col) = H(col, r) = sum;
-    }
+  H << h00, h01, h02, h01, h11, h12, h02, h12, h22;
   double lambda = o.lm_initial_lambda;
   // MRPT: while (keep && ++n < 100).
   bool keep = true;
@@ -611,13 +617,20 @@ Pose2 mrpt_lm_update(const IcpTarget2D& target, std::span<const Eigen::Vector2d>
     // MRPT's (C⁻¹·J·e) as Eigen evaluates it, without its 3 × n temporary:
     // T(i, k) = c₀J₀ₖ + (c₁J₁ₖ + c₂J₂ₖ), then Σₖ T(i, k)·eₖ in order (checked
     // bit for bit against the Eigen expression over MRPT's types).
-    Eigen::Vector3f delta;
-    for (int r = 0; r < 3; ++r) {
-      const float c0 = C_inv(r, 0), c1 = C_inv(r, 1), c2 = C_inv(r, 2);
-      float sum = 0;
-      for (std::size_t k = 0; k < n; ++k) sum += (c0 * J[0][k] + (c1 * J[1][k] + c2 * J[2][k])) * e[k];
-      delta[r] = sum;
+    // The three rows in one pass: three independent chains of float adds,
+    // each in MRPT's order (a sum per row would wait on one add latency per
+    // pair, three times over).
+    const float a0 = C_inv(0, 0), a1 = C_inv(0, 1), a2 = C_inv(0, 2);
+    const float b0 = C_inv(1, 0), b1 = C_inv(1, 1), b2 = C_inv(1, 2);
+    const float d0 = C_inv(2, 0), d1 = C_inv(2, 1), d2 = C_inv(2, 2);
+    float sum0 = 0, sum1 = 0, sum2 = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const float j0 = J[0][k], j1 = J[1][k], j2 = J[2][k], ek = e[k];
+      sum0 += (a0 * j0 + (a1 * j1 + a2 * j2)) * ek;
+      sum1 += (b0 * j0 + (b1 * j1 + b2 * j2)) * ek;
+      sum2 += (d0 * j0 + (d1 * j1 + d2 * j2)) * ek;
     }
+    const Eigen::Vector3f delta(sum0, sum1, sum2);
     if (!delta.allFinite()) break;
     const Pose2 q_new(q.x() - delta[0], q.y() - delta[1], q.phi() - delta[2]);
     const float ose_new = mrpt_square_errors(fp, q_new, nullptr, nullptr, nullptr);
