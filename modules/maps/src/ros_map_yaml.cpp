@@ -35,18 +35,41 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-// Removes a `#` comment: a `#` at the start or after a blank, outside quotes.
+// Removes a `#` comment: a `#` at the start or after a blank (space or
+// tab), outside quoted scalars. As in YAML, a quote opens a quoted scalar
+// only where a scalar starts (the line's start, after `: `, `[` or `,`);
+// elsewhere it is a literal character of a plain scalar. Inside double
+// quotes a backslash escapes the next character; inside single quotes ''
+// is a quote.
 std::string_view strip_comment(std::string_view s, std::string_view source, std::size_t line) {
   char quote = 0;
+  char prev = 0;        // previous non-blank character outside quotes (0: none)
+  bool blank = false;   // a blank since `prev`
   for (std::size_t i = 0; i < s.size(); ++i) {
     const char c = s[i];
     if (quote != 0) {
-      if (c == quote) quote = 0;
-    } else if (c == '"' || c == '\'') {
-      quote = c;
-    } else if (c == '#' && (i == 0 || s[i - 1] == ' ' || s[i - 1] == '\t')) {
-      return s.substr(0, i);
+      if (quote == '"' && c == '\\') {
+        ++i;
+      } else if (c == quote) {
+        if (quote == '\'' && i + 1 < s.size() && s[i + 1] == '\'') {
+          ++i;
+        } else {
+          quote = 0;
+          prev = c;
+          blank = false;
+        }
+      }
+      continue;
     }
+    if (c == ' ' || c == '\t') {
+      blank = true;
+      continue;
+    }
+    if (c == '#' && (i == 0 || blank)) return s.substr(0, i);
+    const bool scalar_start = prev == 0 || prev == '[' || prev == ',' || (prev == ':' && blank);
+    if ((c == '"' || c == '\'') && scalar_start) quote = c;
+    prev = c;
+    blank = false;
   }
   if (quote != 0) fail(source, line, "", "unterminated quoted string");
   return s;

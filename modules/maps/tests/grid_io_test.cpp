@@ -251,6 +251,31 @@ TEST(RosMapYaml, MapSaverLayout) {
             "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
 }
 
+// Quotes only open a quoted scalar where a scalar starts; inside double
+// quotes \" is a quote, not the end; a tab before # starts a comment. A
+// value of quotes, bytes above 127, a tab and a # formats and parses back
+// unchanged (found by rove_grid_io_fuzz: the comment scan closed the quoted
+// string at its first escaped quote).
+TEST(RosMapYaml, QuotesCommentsAndEscapesRoundTrip) {
+  const std::string base = "resolution: 0.05\norigin: [0, 0, 0]\n";
+  EXPECT_EQ(parse_ros_map_yaml("image: map\"x.png # note\n" + base, "a.yaml").image, "map\"x.png");
+  EXPECT_EQ(parse_ros_map_yaml("image: map.png\t# note\n" + base, "b.yaml").image, "map.png");
+  EXPECT_EQ(parse_ros_map_yaml("image: \"a \\\" # b\" # c\n" + base, "c.yaml").image, "a \" # b");
+  EXPECT_EQ(parse_ros_map_yaml("image: 'it''s # here'\n" + base, "d.yaml").image, "it's # here");
+  EXPECT_EQ(parse_ros_map_yaml("image: a#b\n" + base, "e.yaml").image, "a#b");
+  const std::string odd = std::string("map.\xff\xff\"\"\"\t#\x06\"1 '2' \\");
+  RosMapYaml y;
+  y.image = odd;
+  y.resolution = 0.05;
+  const RosMapYaml z = parse_ros_map_yaml(format_ros_map_yaml(y), "f.yaml");
+  EXPECT_EQ(z.image, odd);
+  // The fuzzer's input: a plain scalar with literal quotes, cut at "\t#".
+  const std::string fuzz = std::string("image: map.\xff\xff\"\"\t#\x06\"\"1\n") + base;
+  const RosMapYaml f = parse_ros_map_yaml(fuzz, "g.yaml");
+  EXPECT_EQ(f.image, "map.\xff\xff\"\"");
+  EXPECT_EQ(parse_ros_map_yaml(format_ros_map_yaml(f), "h.yaml").image, f.image);
+}
+
 TEST(RosMapYaml, ErrorsNameLineAndKey) {
   const auto error_of = [](const std::string& text) -> ParseError {
     try {
