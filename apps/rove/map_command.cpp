@@ -1,7 +1,9 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <algorithm>
 #include <iostream>
+#include <limits>
 #include <string>
 
 #include "commands.h"
@@ -9,8 +11,9 @@
 #include "rove/core/ini.h"
 #include "rove/maps/grid_binary.h"
 #include "rove/maps/grid_image.h"
-#include "rove/maps/metric_map_builder.h"
+#include "rove/maps/grid_clearance.h"
 #include "rove/maps/grid_entropy.h"
+#include "rove/maps/metric_map_builder.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
 #include "rove/maps/mrpt_gridmap.h"
 #include "rove/maps/multi_metric_map.h"
@@ -179,26 +182,32 @@ bool ends_with_ci(std::string s, std::string_view suffix) {
   return s.ends_with(suffix);
 }
 
-int run_map_convert(const MapConvertArgs& a) {
-  OccupancyGrid grid;
-  std::string from;
-  if (ends_with_ci(a.input, ".yaml") || ends_with_ci(a.input, ".yml")) {
-    RosMap m = load_ros_map(a.input);
+// Reads a grid from a ROS map.yaml, an MRPT .gridmap or a .rovegrid; `from`
+// names the kind. `arg` names the command-line argument in errors.
+OccupancyGrid load_any_grid(const std::string& path, const std::string& arg, std::string& from) {
+  if (ends_with_ci(path, ".yaml") || ends_with_ci(path, ".yml")) {
+    RosMap m = load_ros_map(path);
     for (const auto& k : m.yaml.unknown_keys) {
-      fmt::print("  without effect: {} key '{}'\n", a.input, k);
+      fmt::print("  without effect: {} key '{}'\n", path, k);
     }
-    grid = std::move(m.grid);
     from = "ROS map";
-  } else if (ends_with_ci(a.input, ".gridmap") || ends_with_ci(a.input, ".gridmap.gz")) {
-    grid = load_mrpt_gridmap(a.input).grid;
-    from = "MRPT gridmap";
-  } else if (ends_with_ci(a.input, ".rovegrid") || ends_with_ci(a.input, ".rovegrid.gz")) {
-    grid = load_grid(a.input);
-    from = "rove grid";
-  } else {
-    throw CLI::ValidationError("IN", fmt::format("{}: unknown input kind (expected .yaml, "
-                                                 ".gridmap[.gz] or .rovegrid[.gz])", a.input));
+    return std::move(m.grid);
   }
+  if (ends_with_ci(path, ".gridmap") || ends_with_ci(path, ".gridmap.gz")) {
+    from = "MRPT gridmap";
+    return load_mrpt_gridmap(path).grid;
+  }
+  if (ends_with_ci(path, ".rovegrid") || ends_with_ci(path, ".rovegrid.gz")) {
+    from = "rove grid";
+    return load_grid(path);
+  }
+  throw CLI::ValidationError(arg, fmt::format("{}: unknown input kind (expected .yaml, "
+                                              ".gridmap[.gz] or .rovegrid[.gz])", path));
+}
+
+int run_map_convert(const MapConvertArgs& a) {
+  std::string from;
+  const OccupancyGrid grid = load_any_grid(a.input, "IN", from);
   std::vector<std::string> written;
   if (ends_with_ci(a.output, ".yaml")) {
     GridImageOptions o;
@@ -219,6 +228,47 @@ int run_map_convert(const MapConvertArgs& a) {
              grid.y_min(), grid.y_max());
   fmt::print("{}", entropy_line(grid));
   for (const auto& f : written) fmt::print("  wrote {}\n", f);
+  return 0;
+}
+
+struct MapVoronoiArgs {
+  std::string input;
+  std::string output;
+  VoronoiOptions options;
+};
+
+// The grid as map_saver's gray levels with the diagram drawn in black on
+// top: occupied 0, diagram 0 too but only on free cells, so the image
+// reads as the map with its skeleton.
+int run_map_voronoi(const MapVoronoiArgs& a) {
+  if (!ends_with_ci(a.output, ".png") && !ends_with_ci(a.output, ".pgm")) {
+    throw CLI::ValidationError("--out", fmt::format("{}: expected a .png or .pgm image", a.output));
+  }
+  std::string from;
+  const OccupancyGrid grid = load_any_grid(a.input, "IN", from);
+  const VoronoiDiagram vd = voronoi_diagram(grid, a.options);
+  GrayImage img = grid_to_image(grid, GridImageOptions{});
+  // Image row 0 is the top of the map (largest y).
+  float lo = std::numeric_limits<float>::infinity(), hi = 0;
+  for (std::uint32_t cy = 0; cy < vd.size_y; ++cy) {
+    for (std::uint32_t cx = 0; cx < vd.size_x; ++cx) {
+      const float c = vd.clearance[cx + static_cast<std::size_t>(cy) * vd.size_x];
+      if (c <= 0) continue;
+      lo = std::min(lo, c);
+      hi = std::max(hi, c);
+      img.pixels[cx + static_cast<std::size_t>(vd.size_y - 1 - cy) * img.width] = 0;
+    }
+  }
+  write_gray_image(a.output, img, ends_with_ci(a.output, ".pgm") ? ImageFormat::kPgm : ImageFormat::kPng);
+  fmt::print("{} {}: {} x {} cells of {} m\n", from, a.input, grid.size_x(), grid.size_y(),
+             grid.resolution());
+  if (vd.cells > 0) {
+    fmt::print("  voronoi diagram: {} cells ({:.2f} m), clearance {:.3f} to {:.3f} m\n", vd.cells,
+               static_cast<double>(vd.cells) * grid.resolution(), lo, hi);
+  } else {
+    fmt::print("  voronoi diagram: no cell\n");
+  }
+  fmt::print("  wrote {}\n", a.output);
   return 0;
 }
 
@@ -265,6 +315,30 @@ void add_map_command(CLI::App& app) {
   convert->add_flag("--pgm", cargs->pgm, "write the image as PGM (P5) instead of PNG");
   convert->callback([cargs] {
     const int rc = run_map_convert(*cargs);
+    if (rc != 0) throw CLI::RuntimeError(rc);
+  });
+
+  auto vargs = std::make_shared<MapVoronoiArgs>();
+  auto* voronoi = map->add_subcommand(
+      "voronoi",
+      "Compute the Voronoi diagram of a grid's free space (with clearances) and draw it over "
+      "the map as an image");
+  voronoi->add_option("IN", vargs->input, "map.yaml, .gridmap[.gz] or .rovegrid[.gz]")
+      ->required()
+      ->check(CLI::ExistingFile);
+  voronoi->add_option("-o,--out", vargs->output, "image to write (.png or .pgm)")->required();
+  voronoi->add_option("--robot-size", vargs->options.min_clearance,
+                      "leave out cells with at most this clearance, meters (default 0)")
+      ->check(CLI::NonNegativeNumber);
+  voronoi->add_option("--occupied-below", vargs->options.occupied_threshold,
+                      "p(free) below which a cell is an obstacle (default 0.5)")
+      ->check(CLI::Range(0.0, 1.0));
+  voronoi->add_option("--separation", vargs->options.min_separation,
+                      "the two obstacles must be more than this × the clearance apart "
+                      "(default 1.75)")
+      ->check(CLI::PositiveNumber);
+  voronoi->callback([vargs] {
+    const int rc = run_map_voronoi(*vargs);
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }

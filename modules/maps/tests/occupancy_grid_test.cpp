@@ -246,3 +246,123 @@ TEST(GridEntropy, PropertiesOn16BitCells) { check_entropy_properties<std::int16_
 
 }  // namespace
 }  // namespace rove
+
+namespace rove {
+namespace {
+
+// The feature transform names a cell at the exact nearest distance.
+TEST(GridClearance, NearestOccupiedCellIsAtTheNearestDistance) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 20; ++trial) {
+    OccupancyGrid g(0, 3.0f + trial % 4, 0, 2.0f + trial % 3, 0.1f);
+    std::uniform_int_distribution<int> ux(0, static_cast<int>(g.size_x()) - 1),
+        uy(0, static_cast<int>(g.size_y()) - 1);
+    for (int k = 0; k < trial % 9; ++k) g.set_free_probability(ux(rng), uy(rng), 0.0f);
+    const auto d2 = squared_distance_to_occupied(g, std::int8_t{0});
+    const auto site = nearest_occupied_cell(g, std::int8_t{0});
+    const auto nx = static_cast<std::int64_t>(g.size_x());
+    for (std::size_t i = 0; i < site.size(); ++i) {
+      if (trial % 9 == 0) {
+        ASSERT_EQ(site[i], kNoOccupiedCell);
+        continue;
+      }
+      ASSERT_NE(site[i], kNoOccupiedCell);
+      ASSERT_LT(g.cells()[site[i]], 0) << "not an occupied cell";
+      const std::int64_t dx = static_cast<std::int64_t>(i) % nx - site[i] % nx;
+      const std::int64_t dy = static_cast<std::int64_t>(i) / nx - site[i] / nx;
+      ASSERT_EQ(static_cast<std::uint64_t>(dx * dx + dy * dy), d2[i]) << i;
+    }
+  }
+}
+
+// A corridor between two walls: the diagram is its center line, with half
+// the width as clearance; nothing near the walls.
+TEST(GridVoronoi, CorridorCenterLine) {
+  for (const int width : {20, 21}) {
+    OccupancyGrid g(0, 6.0f, 0, 0.1f * (width + 1), 0.1f);
+    const int nx = static_cast<int>(g.size_x());
+    ASSERT_EQ(static_cast<int>(g.size_y()), width + 1);
+    for (int x = 0; x < nx; ++x) {
+      g.set_free_probability(x, 0, 0.0f);
+      g.set_free_probability(x, width, 0.0f);
+      for (int y = 1; y < width; ++y) g.set_free_probability(x, y, 1.0f);
+    }
+    const VoronoiDiagram vd = voronoi_diagram(g);
+    ASSERT_EQ(vd.size_x, g.size_x());
+    for (int x = 0; x < nx; ++x) {
+      int on = 0;
+      for (int y = 0; y <= width; ++y) {
+        if (!vd.on(x, y)) continue;
+        ++on;
+        // Width 20: row 10 is equidistant; width 21: rows 10 and 11 are
+        // half a cell off, one of them is kept.
+        EXPECT_LE(std::abs(2 * y - width), 1) << "x " << x << " y " << y;
+        EXPECT_NEAR(vd.clearance[g.index(x, y)], 0.1f * std::min(y, width - y), 1e-5f);
+      }
+      EXPECT_EQ(on, 1) << "column " << x << ", width " << width;
+    }
+    EXPECT_EQ(vd.cells, static_cast<std::size_t>(nx));
+    // A robot wider than the corridor's half width: no diagram left.
+    VoronoiOptions wide;
+    wide.min_clearance = 0.1f * (width / 2) + 0.01f;
+    EXPECT_EQ(voronoi_diagram(g, wide).cells, 0u);
+  }
+}
+
+// Every diagram cell on random obstacles lies between two obstacles seen
+// far apart, within a cell of equidistance; clearances are the distance
+// transform's; no obstacle and a full grid give no diagram.
+TEST(GridVoronoi, CellsAreNearlyEquidistantToTwoSeparatedObstacles) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 12; ++trial) {
+    OccupancyGrid g(0, 4.0f, 0, 3.0f, 0.1f);
+    for (std::int8_t& c : g.mutable_cells()) c = LogOddsTraits<std::int8_t>::kMax;
+    std::uniform_int_distribution<int> ux(0, static_cast<int>(g.size_x()) - 1),
+        uy(0, static_cast<int>(g.size_y()) - 1);
+    std::vector<std::pair<int, int>> obstacles;
+    for (int k = 0; k < 3 + trial; ++k) {
+      const int x = ux(rng), y = uy(rng);
+      g.set_free_probability(x, y, 0.0f);
+      obstacles.emplace_back(x, y);
+    }
+    const VoronoiDiagram vd = voronoi_diagram(g);
+    const std::vector<float> clearance = clearance_map(g);
+    EXPECT_GT(vd.cells, 0u) << trial;
+    std::size_t counted = 0;
+    for (int y = 0; y < static_cast<int>(g.size_y()); ++y) {
+      for (int x = 0; x < static_cast<int>(g.size_x()); ++x) {
+        if (!vd.on(x, y)) continue;
+        ++counted;
+        const float c = vd.clearance[g.index(x, y)];
+        ASSERT_NEAR(c, clearance[g.index(x, y)], 1e-5f);
+        // Two obstacles: the nearest (at the clearance) and one within a
+        // cell's diagonal of it, more than 1.75 × (clearance − √2 cells)
+        // from the first.
+        const double d = c / 0.1;
+        bool found = false;
+        for (const auto& [ax, ay] : obstacles) {
+          const double da = std::hypot(ax - x, ay - y);
+          if (std::abs(da - d) > 1e-6) continue;
+          for (const auto& [bx, by] : obstacles) {
+            const double db = std::hypot(bx - x, by - y);
+            if (db - d <= std::sqrt(2.0) + 1e-9 &&
+                std::hypot(ax - bx, ay - by) > 1.75 * (d - std::sqrt(2.0)))
+              found = true;
+          }
+        }
+        ASSERT_TRUE(found) << "trial " << trial << " cell " << x << "," << y;
+      }
+    }
+    EXPECT_EQ(counted, vd.cells);
+  }
+  OccupancyGrid empty(0, 1, 0, 1, 0.1f, 1.0f);
+  EXPECT_EQ(voronoi_diagram(empty).cells, 0u);
+  OccupancyGrid full(0, 1, 0, 1, 0.1f, 0.0f);
+  EXPECT_EQ(voronoi_diagram(full).cells, 0u);
+  VoronoiOptions bad;
+  bad.min_separation = 0;
+  EXPECT_THROW(voronoi_diagram(empty, bad), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace rove
