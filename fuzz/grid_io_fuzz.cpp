@@ -1,9 +1,12 @@
 // libFuzzer target for the occupancy-grid file readers: the same bytes go to
-// the PNG and PGM decoders, the map.yaml parser and rove's binary grid
-// record. Any bytes must either read or be rejected with a rove::Error; what
-// reads must survive a write/read round trip unchanged, and an image must
-// become a grid of its size.
+// the PNG and PGM decoders, the map.yaml parser, rove's binary grid record
+// and MRPT's serialized COccupancyGridMap2D (.gridmap). Any bytes must
+// either read or be rejected with a rove::Error; what reads must survive a
+// write/read round trip unchanged, an image must become a grid of its size,
+// and a .gridmap must give a grid whose cells match its sizes and whose
+// entropy is finite.
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -12,7 +15,9 @@
 #include "rove/core/error.h"
 #include "rove/maps/gray_image.h"
 #include "rove/maps/grid_binary.h"
+#include "rove/maps/grid_entropy.h"
 #include "rove/maps/grid_image.h"
+#include "rove/maps/mrpt_gridmap.h"
 #include "rove/maps/ros_map_yaml.h"
 #include "rove/serialization/memory_stream.h"
 
@@ -77,6 +82,34 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     rove::OccupancyGrid h(0, 1, 0, 1, 1);
     load(ar2, h);
     if (!(h == g) || h.empty() != g.empty()) die("binary round trip changed the grid");
+  } catch (const rove::Error&) {
+  }
+  try {
+    rove::MemoryInStream in(std::as_bytes(bytes), "fuzz.gridmap");
+    rove::ArchiveLimits al;
+    al.max_length = std::uint64_t{1} << 22;
+    rove::InArchive ar(in, al);
+    const rove::MrptGridmap m = rove::read_mrpt_gridmap(ar);
+    const rove::OccupancyGrid& g = m.grid;
+    if (g.cells().size() != static_cast<std::size_t>(g.size_x()) * g.size_y()) {
+      die("gridmap cells disagree with its sizes");
+    }
+    if (!(g.resolution() > 0) || !(g.x_max() > g.x_min()) || !(g.y_max() > g.y_min())) {
+      die("gridmap geometry is not a grid");
+    }
+    const rove::GridEntropy e = rove::grid_entropy(g);
+    if (!std::isfinite(e.entropy) || !std::isfinite(e.information) ||
+        e.mapped_cells > g.cells().size()) {
+      die("gridmap entropy is not finite");
+    }
+    rove::MemoryOutStream out;
+    rove::OutArchive oa(out);
+    save(oa, g);
+    rove::MemoryInStream in2(out.data(), "again.rovegrid");
+    rove::InArchive ar2(in2);
+    rove::OccupancyGrid h(0, 1, 0, 1, 1);
+    load(ar2, h);
+    if (!(h == g)) die("a .gridmap grid did not survive the binary round trip");
   } catch (const rove::Error&) {
   }
   return 0;
