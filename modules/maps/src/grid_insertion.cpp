@@ -303,15 +303,17 @@ template <GridCell Cell>
     int s = 0;
     int chunk = dir > 0 ? kB - (a0 & (kB - 1)) : (a0 & (kB - 1)) + 1;
     std::int64_t f_first = f0;
-    std::uint8_t* column = blocks + static_cast<std::ptrdiff_t>(a0 >> kLB) * ab_stride;
+    // An index, not a pointer: after the ray's last chunk it may point one
+    // column outside the summary.
+    std::ptrdiff_t column = static_cast<std::ptrdiff_t>(a0 >> kLB) * ab_stride;
     const std::ptrdiff_t column_step = dir * ab_stride;
     while (s < n_steps) {
       const int len = std::min(chunk, n_steps - s);
       const std::int64_t f_last = f_first + static_cast<std::int64_t>(len - 1) * fr;
       const auto m_first = static_cast<int>(f_first >> kFrBits);
       const auto m_last = static_cast<int>(f_last >> kFrBits);
-      std::uint8_t& st_first = column[static_cast<std::ptrdiff_t>(m_first >> kLB) * mb_stride];
-      std::uint8_t& st_last = column[static_cast<std::ptrdiff_t>(m_last >> kLB) * mb_stride];
+      std::uint8_t& st_first = blocks[column + static_cast<std::ptrdiff_t>(m_first >> kLB) * mb_stride];
+      std::uint8_t& st_last = blocks[column + static_cast<std::ptrdiff_t>(m_last >> kLB) * mb_stride];
       if ((st_first & st_last) != Summary::kFull) [[unlikely]] {
         const int a = a0 + dir * s;
         if (!frontier_full(st_first, len, a, m_first)) break;
