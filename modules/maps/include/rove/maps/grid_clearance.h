@@ -46,9 +46,10 @@ struct VoronoiOptions {
   /// robot_size). ≥ 0.
   float min_clearance = 0.0f;
   /// The two obstacles a diagram cell lies between must be more than this
-  /// many times its clearance apart (MRPT's basis-point test, 1.75: the
-  /// obstacles are seen more than ≈ 122° apart), which keeps the diagram
-  /// off the corners of a room and the steps of a wall. > 0.
+  /// many times the clearance apart (the larger clearance of the two
+  /// neighbouring cells that straddle the bisector; MRPT's basis-point
+  /// test, 1.75: the obstacles are seen more than ≈ 122° apart), which keeps
+  /// the diagram off the corners of a room and the steps of a wall. > 0.
   float min_separation = 1.75f;
 };
 
@@ -72,9 +73,10 @@ struct VoronoiDiagram {
 /// The Voronoi diagram of the free cells of `grid` (MRPT's
 /// buildVoronoiDiagram, computed from the exact feature transform instead
 /// of MRPT's growing circles): two 4-neighbouring free cells whose nearest
-/// obstacles differ and lie more than min_separation × clearance apart
-/// straddle the bisector of those obstacles, and the one nearer to it (the
-/// smaller excess distance to the other obstacle) is on the diagram.
+/// obstacles differ and lie more than min_separation × the larger of their
+/// clearances apart straddle the bisector of those obstacles, and the one
+/// nearer to it (the smaller excess distance to the other obstacle; a tie
+/// goes to the left or lower cell) is on the diagram.
 /// Preconditions (InvalidArgument): options in range. O(cells).
 template <GridCell Cell>
 VoronoiDiagram voronoi_diagram(const OccupancyGridT<Cell>& grid, const VoronoiOptions& options = {});
