@@ -1,7 +1,7 @@
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <string>
@@ -10,9 +10,9 @@
 #include "rove/core/error.h"
 #include "rove/core/ini.h"
 #include "rove/maps/grid_binary.h"
-#include "rove/maps/grid_image.h"
 #include "rove/maps/grid_clearance.h"
 #include "rove/maps/grid_entropy.h"
+#include "rove/maps/grid_image.h"
 #include "rove/maps/metric_map_builder.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
 #include "rove/maps/mrpt_gridmap.h"

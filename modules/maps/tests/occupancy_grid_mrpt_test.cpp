@@ -53,6 +53,12 @@ RefGrid read_ref(const std::string& name) {
   return r;
 }
 
+// Where a .gridmap named in a reference file is: MRPT's uwb demo map is
+// kept with the test data, the others are in the shared datasets.
+std::string gridmap_path(const std::string& name) {
+  return name.rfind("uwb", 0) == 0 ? kData + "grid_uwb_demo.gridmap.gz" : kDatasets + name;
+}
+
 std::vector<std::shared_ptr<const RangeScan2D>> simplemap_scans(const std::string& file) {
   const SimpleMap sm = load_mrpt_simplemap(kDatasets + file);
   std::vector<std::shared_ptr<const RangeScan2D>> out;
@@ -212,10 +218,7 @@ TEST(OccupancyGridMrpt, GridmapFilesMatchMrptCells) {
     float x0, x1, y0, y1, res;
     std::size_t occ, fr;
     ls >> name >> sx >> sy >> x0 >> x1 >> y0 >> y1 >> res >> hash >> occ >> fr;
-    const std::string path = name.rfind("uwb", 0) == 0
-                                 ? ROVE_SOURCE_DIR "/modules/maps/tests/data/grid_uwb_demo.gridmap.gz"
-                                 : kDatasets + name;
-    const MrptGridmap g = load_mrpt_gridmap(path);
+    const MrptGridmap g = load_mrpt_gridmap(gridmap_path(name));
     EXPECT_EQ(g.grid.size_x(), sx);
     EXPECT_EQ(g.grid.size_y(), sy);
     EXPECT_FLOAT_EQ(g.grid.x_min(), x0);
@@ -263,9 +266,7 @@ TEST(GridEntropy, MatchesMrptComputeEntropyOnMrptGrids) {
     ASSERT_FALSE(ls.fail()) << line;
     OccupancyGrid grid;
     if (name.find(".gridmap") != std::string::npos) {
-      const std::string path = name.rfind("uwb", 0) == 0 ? kData + "grid_uwb_demo.gridmap.gz"
-                                                          : kDatasets + name;
-      grid = load_mrpt_gridmap(path).grid;
+      grid = load_mrpt_gridmap(gridmap_path(name)).grid;
     } else {
       grid = read_ref(name + ".bin.gz").grid;
     }
