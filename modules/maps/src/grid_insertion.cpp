@@ -45,6 +45,18 @@ inline float float_round(float v) {
   return static_cast<float>(t + (frac >= 0.5f) - (frac <= -0.5f));
 }
 
+// 1.0f / n, as MRPT computes it, from a table for the usual ray lengths (a
+// division per ray is a long dependency chain on the ray's setup).
+inline float reciprocal(int n) {
+  constexpr int kTable = 4096;
+  static const std::vector<float> table = [] {
+    std::vector<float> t(kTable);
+    for (int i = 1; i < kTable; ++i) t[static_cast<std::size_t>(i)] = 1.0f / static_cast<float>(i);
+    return t;
+  }();
+  return n < kTable ? table[static_cast<std::size_t>(n)] : 1.0f / static_cast<float>(n);
+}
+
 // The free cells of one thin ray: n_steps fixed-point DDA steps from cell
 // (cx, cy), each checked against the grid (the slow path: a ray that leaves
 // the grid, e.g. from a sensor outside it; MRPT writes out of bounds there).
@@ -100,22 +112,45 @@ inline void free_run(Cell* data, std::ptrdiff_t major, std::ptrdiff_t major_stri
 }
 
 // free_run for the usual case obs == kMax − thres, where the free update
-// v < thres ? v + obs : kMax is the saturating add min(v + obs, kMax) (a
-// compare and a conditional move). The minor coordinate is a 64-bit
-// accumulator, so it indexes without a sign extension; kXMajor fixes the
-// strides: x-major steps one column and moves rows (× sx), y-major steps
-// one row (sx) and moves columns. Same cells, same values as free_run.
+// v < thres ? v + obs : kMax is the saturating add min(v + obs, kMax). The
+// minor coordinate is a 64-bit accumulator, so it indexes without a sign
+// extension; kXMajor fixes the strides: x-major steps one column and moves
+// rows (× sx), y-major steps one row (sx) and moves columns. For 8-bit
+// cells the update is a lookup in `add` (the 256 results of the saturating
+// add, by the cell's byte): a load instead of an add, a compare and a
+// conditional move. Same cells, same values as free_run.
 template <bool kXMajor, GridCell Cell>
 inline void free_run_saturating(Cell* data, std::ptrdiff_t major, std::ptrdiff_t sx, int dir,
-                                std::int64_t f, std::int64_t fr_minor, int n_steps, int obs) {
+                                std::int64_t f, std::int64_t fr_minor, int n_steps, int obs,
+                                const std::uint8_t* add) {
   constexpr int kMax = LogOddsTraits<Cell>::kMax;
   Cell* base = data + major;
   const std::ptrdiff_t major_stride = kXMajor ? dir : dir * sx;
+  if constexpr (!kXMajor && sizeof(Cell) == 1) {
+    // Cell s is at base + s·major_stride + ((f + s·fr) >> kFrBits): one
+    // accumulator q = (base << kFrBits) + f gives the address as q >> kFrBits,
+    // since a multiple of 2^kFrBits added to f moves its floor by exactly
+    // that multiple. Addresses are below 2^48, so q stays below 2^57.
+    auto q = static_cast<std::int64_t>(reinterpret_cast<std::uintptr_t>(base) << kFrBits) + f;
+    const std::int64_t dq = major_stride * kFrOne + fr_minor;
+#pragma GCC unroll 4
+    for (int s = 0; s < n_steps; ++s) {
+      auto* b = reinterpret_cast<std::uint8_t*>(static_cast<std::uintptr_t>(q >> kFrBits));
+      *b = add[*b];
+      q += dq;
+    }
+    return;
+  }
 #pragma GCC unroll 4
   for (int s = 0; s < n_steps; ++s) {
     Cell* p = base + (kXMajor ? (f >> kFrBits) * sx : (f >> kFrBits));
-    const int v = *p + obs;
-    *p = static_cast<Cell>(v < kMax ? v : kMax);
+    if constexpr (sizeof(Cell) == 1) {
+      auto* b = reinterpret_cast<std::uint8_t*>(p);
+      *b = add[*b];
+    } else {
+      const int v = *p + obs;
+      *p = static_cast<Cell>(v < kMax ? v : kMax);
+    }
     base += major_stride;
     f += fr_minor;
   }
@@ -197,7 +232,7 @@ void free_rows(Cell* data, std::ptrdiff_t n_cells, std::ptrdiff_t sx, std::ptrdi
 using Summary = GridSaturationSummary;
 constexpr int kLB = Summary::kLogBlock;
 constexpr int kB = Summary::kBlock;
-constexpr int kCheck = kB * kB;
+constexpr int kCheck = 8 * kB;
 static_assert(kCheck + kB < Summary::kFull, "a block's count must never read as kFull");
 
 // True if every cell of block (bx, by) that lies inside the grid is kMax.
@@ -210,21 +245,12 @@ bool block_saturated(const Cell* data, std::ptrdiff_t sx, std::ptrdiff_t sy, std
   const std::ptrdiff_t ny = std::min<std::ptrdiff_t>(kB, sy - y0);
   const Cell* row = data + x0 + y0 * sx;
   if (nx == kB) {
-    // kB cells of a row are 8 or 16 bytes: compare them as 64-bit words.
-    constexpr int kWords = kB * static_cast<int>(sizeof(Cell)) / 8;
-    static_assert(kWords * 8 == kB * static_cast<int>(sizeof(Cell)));
-    std::uint64_t pattern = 0;
-    for (std::size_t i = 0; i < 8 / sizeof(Cell); ++i) {
-      pattern |= static_cast<std::uint64_t>(static_cast<std::make_unsigned_t<Cell>>(kMax))
-                 << (8 * sizeof(Cell) * i);
-    }
-    std::uint64_t diff = 0;
+    Cell pattern[kB];
+    for (auto& c : pattern) c = kMax;
     for (std::ptrdiff_t y = 0; y < ny; ++y, row += sx) {
-      std::uint64_t w[kWords];
-      std::memcpy(w, row, sizeof w);
-      for (int i = 0; i < kWords; ++i) diff |= w[i] ^ pattern;
+      if (std::memcmp(row, pattern, sizeof pattern) != 0) return false;
     }
-    return diff == 0;
+    return true;
   }
   for (std::ptrdiff_t y = 0; y < ny; ++y, row += sx) {
     for (std::ptrdiff_t x = 0; x < nx; ++x) {
@@ -278,6 +304,15 @@ template <GridCell Cell>
   [[maybe_unused]] constexpr int kMax = LogOddsTraits<Cell>::kMax;
   // Vector runs pay off for rays within ~14° of the x axis (runs of >= 4).
   [[maybe_unused]] constexpr int kShallow = kFrOne / 4;
+  // The saturating free update of an 8-bit cell, by the cell's byte.
+  alignas(64) std::uint8_t add[256] = {};
+  if constexpr (sizeof(Cell) == 1) {
+    const int obs = kMax - thres_free;
+    for (int u = 0; u < 256; ++u) {
+      const int v = static_cast<std::int8_t>(static_cast<std::uint8_t>(u)) + obs;
+      add[u] = static_cast<std::uint8_t>(static_cast<std::int8_t>(v < kMax ? v : kMax));
+    }
+  }
   for (std::size_t k = 0; k < n_rays; ++k) {
     const ThinRay& r = rays[k];
     const bool x_major = r.fr_dx == kFrOne || r.fr_dx == -kFrOne;
@@ -334,9 +369,9 @@ template <GridCell Cell>
 #endif
     if (r.obs == kMax - thres_free) {
       if (x_major) {
-        free_run_saturating<true>(data, a, sx, dir, f, fr, n, r.obs);
+        free_run_saturating<true>(data, a, sx, dir, f, fr, n, r.obs, add);
       } else {
-        free_run_saturating<false>(data, a * sx, sx, dir, f, fr, n, r.obs);
+        free_run_saturating<false>(data, a * sx, sx, dir, f, fr, n, r.obs, add);
       }
     } else if (x_major) {
       // Major axis x: cell (a ± j, (f + j·fr) >> kFrBits).
@@ -520,6 +555,7 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
 
   // 1) End points (meters) and the bounding box to grow the grid to.
   std::vector<float> end_x(scan.size()), end_y(scan.size());
+  std::vector<std::uint8_t> ray_ok(scan.size());  // ins.valid(i), read once
   float bx_max = -std::numeric_limits<float>::max(), bx_min = std::numeric_limits<float>::max();
   float by_max = -std::numeric_limits<float>::max(), by_min = std::numeric_limits<float>::max();
   {
@@ -527,16 +563,21 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
     float last_valid_range = max_dist;
     for (int i = 0; i < n_rays; i += step) {
       float ex = px, ey = py;
-      if (ins.valid(static_cast<std::size_t>(i))) {
+      const bool ok = ins.valid(static_cast<std::size_t>(i));
+      ray_ok[static_cast<std::size_t>(i)] = ok;
+      float rr = -1.0f;  // the ray's length, if it has one
+      if (ok) {
         const float r = scan.ranges[static_cast<std::size_t>(i)];
-        const float rr = std::min(max_dist, r);
-        ex = px + std::cos(a) * rr;
-        ey = py + std::sin(a) * rr;
+        rr = std::min(max_dist, r);
         last_valid_range = r;
       } else if (invalid_as_free) {
-        const float rr = std::min(max_dist, 0.5f * last_valid_range);
-        ex = px + std::cos(a) * rr;
-        ey = py + std::sin(a) * rr;
+        rr = std::min(max_dist, 0.5f * last_valid_range);
+      }
+      if (rr >= 0.0f) {
+        // One place for both, so that they become one sincosf call.
+        const float c = std::cos(a), sn = std::sin(a);
+        ex = px + c * rr;
+        ey = py + sn * rr;
       }
       end_x[static_cast<std::size_t>(i)] = ex;
       end_y[static_cast<std::size_t>(i)] = ey;
@@ -573,7 +614,7 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
     rays.reserve(scan.size() / static_cast<std::size_t>(step) + 1);
     for (int i = 0; i < n_rays; i += step) {
       const auto si = static_cast<std::size_t>(i);
-      const bool ok = ins.valid(si);
+      const bool ok = ray_ok[si] != 0;
       if (!ok && !invalid_as_free) continue;
       const int trg_cx = grid.x_to_idx(end_x[si]);
       const int trg_cy = grid.y_to_idx(end_y[si]);
@@ -582,12 +623,16 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
       const int adx = std::abs(dx), ady = std::abs(dy);
       const int n_steps = std::max(adx, ady);
       if (n_steps == 0) continue;
-      const float inv_n = 1.0f / static_cast<float>(n_steps);
+      // MRPT's steps round(|d|·2^kFrBits · (1/n)) in float: the major axis
+      // (|d| = n) gives exactly kFrOne, since n·fl(1/n) is within 2^-23 of 1.
+      const float inv_n = reciprocal(n_steps);
+      const auto minor_step = [&](int ad, int d) {
+        const int v = static_cast<int>(float_round(static_cast<float>(ad * kFrOne) * inv_n));
+        return d < 0 ? -v : v;
+      };
       ThinRay r;
-      r.fr_dx = static_cast<int>((dx < 0 ? -1.0f : 1.0f) *
-                                 float_round(static_cast<float>(adx * kFrOne) * inv_n));
-      r.fr_dy = static_cast<int>((dy < 0 ? -1.0f : 1.0f) *
-                                 float_round(static_cast<float>(ady * kFrOne) * inv_n));
+      r.fr_dx = adx == n_steps ? (dx < 0 ? -kFrOne : kFrOne) : minor_step(adx, dx);
+      r.fr_dy = ady == n_steps ? (dy < 0 ? -kFrOne : kFrOne) : minor_step(ady, dy);
       r.n_steps = n_steps;
       r.obs = ok ? ins.obs_free : ins.obs_noecho_free;
       if (ok && scan.ranges[si] < max_dist) {

@@ -106,13 +106,44 @@ void OccupancyGridT<Cell>::resize(float new_x_min, float new_x_max, float new_y_
   const auto new_size_y = static_cast<std::uint32_t>(ny);
   ROVE_CHECK_GE(new_size_x, size_x_ + off_x);
   ROVE_CHECK_GE(new_size_y, size_y_ + off_y);
-  std::vector<Cell> grown(static_cast<std::size_t>(new_size_x) * new_size_y,
-                          LogOddsLut<Cell>::instance().p2l(p_free));
-  for (std::uint32_t y = 0; y < size_y_; ++y) {
-    std::memcpy(&grown[off_x + static_cast<std::size_t>(y + off_y) * new_size_x],
-                &cells_[static_cast<std::size_t>(y) * size_x_], size_x_ * sizeof(Cell));
+  const Cell fill = LogOddsLut<Cell>::instance().p2l(p_free);
+  const std::size_t n_new = static_cast<std::size_t>(new_size_x) * new_size_y;
+  if (cells_.capacity() < n_new) {
+    // A grid that grows once tends to grow again (mapping): half again as
+    // much capacity lets the next growths move rows in place, without a new
+    // allocation, its page faults, and a fill of the copied cells. Capacity
+    // that is never used is never touched, so it costs address space only.
+    std::vector<Cell> grown;
+    grown.reserve(n_new + n_new / 2);
+    grown.assign(n_new, fill);
+    for (std::uint32_t y = 0; y < size_y_; ++y) {
+      std::memcpy(&grown[off_x + static_cast<std::size_t>(y + off_y) * new_size_x],
+                  &cells_[static_cast<std::size_t>(y) * size_x_], size_x_ * sizeof(Cell));
+    }
+    cells_.swap(grown);
+  } else {
+    // In place: row y moves from y·sx to (y + off_y)·sx' + off_x, never to
+    // a lower index (sx' >= sx, offsets >= 0), so moving rows from the last
+    // to the first never overwrites a row still to be moved. Then every
+    // cell outside the moved rows gets the fill value.
+    const std::size_t n_old = cells_.size();
+    cells_.resize(n_new, fill);
+    Cell* c = cells_.data();
+    for (std::uint32_t y = size_y_; y-- > 0;) {
+      std::memmove(c + off_x + static_cast<std::size_t>(y + off_y) * new_size_x,
+                   c + static_cast<std::size_t>(y) * size_x_, size_x_ * sizeof(Cell));
+    }
+    const auto fill_range = [&](std::size_t from, std::size_t to) {
+      to = std::min(to, n_old);  // the tail is filled already
+      if (from < to) std::fill(c + from, c + to, fill);
+    };
+    fill_range(0, static_cast<std::size_t>(off_y) * new_size_x + off_x);
+    for (std::uint32_t y = 0; y < size_y_; ++y) {
+      const std::size_t row = static_cast<std::size_t>(y + off_y) * new_size_x;
+      const std::size_t next = y + 1 < size_y_ ? row + new_size_x + off_x : n_new;
+      fill_range(row + off_x + size_x_, next);
+    }
   }
-  cells_.swap(grown);
   x_min_ = new_x_min;
   x_max_ = new_x_max;
   y_min_ = new_y_min;

@@ -179,7 +179,8 @@ Scans rawlog_scans(const std::string& file) {
 
 // If the grid's saturation summary is current, every block it flags as
 // saturated must hold only cells at the free limit. Returns the number of
-// flagged blocks (0 when the summary is not current).
+// cells in flagged blocks (0 when the summary is not current), so that the
+// tests' expectations do not depend on the block size.
 template <GridCell Cell>
 std::size_t expect_summary_sound(OccupancyGridT<Cell>& g) {
   const GridSaturationSummary& s = g.saturation_summary();
@@ -192,10 +193,10 @@ std::size_t expect_summary_sound(OccupancyGridT<Cell>& g) {
   for (std::uint32_t by = 0; by < s.blocks_y; ++by) {
     for (std::uint32_t bx = 0; bx < s.blocks_x; ++bx) {
       if (s.blocks[bx + std::size_t{by} * s.blocks_x] != GridSaturationSummary::kFull) continue;
-      ++flagged;
       for (std::uint32_t y = by * kB; y < std::min<std::uint32_t>(g.size_y(), (by + 1) * kB); ++y) {
         for (std::uint32_t x = bx * kB; x < std::min<std::uint32_t>(g.size_x(), (bx + 1) * kB);
              ++x) {
+          ++flagged;
           if (g.cells()[g.index(static_cast<int>(x), static_cast<int>(y))] !=
               LogOddsTraits<Cell>::kMax) {
             ADD_FAILURE() << "block (" << bx << ", " << by << ") flagged but cell (" << x << ", "
@@ -211,9 +212,11 @@ std::size_t expect_summary_sound(OccupancyGridT<Cell>& g) {
 
 // Inserts every scan into two grids, one by insert_scan and one by the
 // oracle, and compares all cells after every 8th scan and at the end.
+// `saturates`: the scans saturate whole blocks of an 8-bit grid, so the
+// summary's skips must have been taken.
 template <GridCell Cell>
 void expect_same_as_oracle(const Scans& scans, const std::vector<Pose3>& poses, float res,
-                           const GridInsertionOptions& opt) {
+                           const GridInsertionOptions& opt, bool saturates = true) {
   ASSERT_EQ(scans.size(), poses.size());
   OccupancyGridT<Cell> fast(-10, 10, -10, 10, res), slow(-10, 10, -10, 10, res);
   for (std::size_t i = 0; i < scans.size(); ++i) {
@@ -226,7 +229,7 @@ void expect_same_as_oracle(const Scans& scans, const std::vector<Pose3>& poses, 
   }
   // The real scans saturate large areas of 8-bit grids (16-bit cells need
   // hundreds of free updates): the summary's skips were taken.
-  if constexpr (sizeof(Cell) == 1) {
+  if (sizeof(Cell) == 1 && saturates) {
     EXPECT_GT(expect_summary_sound(fast), 0u);
   }
 }
@@ -261,13 +264,14 @@ TEST(GridInsertionOracle, LocalizationDemoEqualsStraightforwardLoop) {
   const Scans scans = simplemap_scans("localization_demo.simplemap.gz");
   const auto poses = ref_poses("grid_locdemo_widening_010.bin.gz");
   GridInsertionOptions o;
+  // Decimated scans of a short run: no whole block reaches the free limit.
   o.decimation = 2;
   o.consider_invalid_ranges_as_free_space = false;
-  expect_same_as_oracle<std::int8_t>(scans, poses, 0.10f, o);
+  expect_same_as_oracle<std::int8_t>(scans, poses, 0.10f, o, false);
   o.decimation = 3;
   o.consider_invalid_ranges_as_free_space = true;
   o.max_freeness_invalid_ranges = 0.9f;
-  expect_same_as_oracle<std::int8_t>(scans, poses, 0.10f, o);
+  expect_same_as_oracle<std::int8_t>(scans, poses, 0.10f, o, false);
 }
 
 // Random scans: many rays through the same cells (the sensor stays near
@@ -310,12 +314,14 @@ TEST(GridInsertionOracle, RandomScansEqualStraightforwardLoop) {
 
 // Scans that saturate the area around the origin: long rays (most cut at
 // max_distance_insertion, so few occupied cells) from poses near (x, y).
-RangeScan2D saturating_scan(std::mt19937& rng, float hit_fraction) {
+// 720 rays all around; a share hit_fraction of them ends at a range in
+// [min_hit, 2.5) m, the others reach beyond the insertion distance.
+RangeScan2D saturating_scan(std::mt19937& rng, float hit_fraction, float min_hit = 0.5f) {
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   RangeScan2D scan;
   scan.aperture = 2.0 * 3.14159265358979;
   std::vector<float> ranges(720);
-  for (float& r : ranges) r = u01(rng) < hit_fraction ? 0.5f + 2.0f * u01(rng) : 50.0f;
+  for (float& r : ranges) r = u01(rng) < hit_fraction ? min_hit + (2.5f - min_hit) * u01(rng) : 50.0f;
   scan.set_ranges(ranges);
   return scan;
 }
@@ -335,19 +341,23 @@ void insert_both(OccupancyGridT<Cell>& fast, OccupancyGridT<Cell>& slow, const R
 }
 
 // Many scans over the same area: blocks become saturated and stay flagged
-// across scans, while some rays end (occupied) inside flagged blocks.
+// across scans, while some rays end (occupied) inside flagged blocks (the
+// hits fall 1.5 to 2.5 m from the sensor, so the blocks nearer stay
+// flagged). 16-bit cells need more scans to saturate.
 template <GridCell Cell>
 void saturated_blocks_across_scans(const GridInsertionOptions& opt) {
   std::mt19937 rng(7);
   OccupancyGridT<Cell> fast(-4, 4, -4, 4, 0.05f), slow(-4, 4, -4, 4, 0.05f);
-  for (int k = 0; k < 60; ++k) {
+  const int n_free = sizeof(Cell) == 1 ? 40 : 80;
+  for (int k = 0; k < n_free + 20; ++k) {
     SCOPED_TRACE(k);
-    insert_both(fast, slow, saturating_scan(rng, k < 40 ? 0.0f : 0.2f), near(rng, 0, 0), opt);
-    if (k == 39) {
-      EXPECT_GT(expect_summary_sound(fast), sizeof(Cell) == 1 ? 100u : 2u);
+    insert_both(fast, slow, saturating_scan(rng, k < n_free ? 0.0f : 0.2f, 1.5f), near(rng, 0, 0),
+                opt);
+    if (k == n_free - 1) {
+      EXPECT_GT(expect_summary_sound(fast), sizeof(Cell) == 1 ? 6400u : 128u);
     }
   }
-  EXPECT_GT(expect_summary_sound(fast), sizeof(Cell) == 1 ? 5u : 2u);
+  EXPECT_GT(expect_summary_sound(fast), sizeof(Cell) == 1 ? 320u : 128u);
 }
 
 TEST(GridInsertionOracle, SaturatedBlocksAcrossScans) {
@@ -423,7 +433,7 @@ TEST(GridInsertionOracle, ExternalWritesInvalidateSummary) {
     fast = OccupancyGrid(-4, 4, -4, 4, 0.05f);
     slow = fast;
     for (int k = 0; k < 40; ++k) insert_both(fast, slow, saturating_scan(rng, 0.0f), near(rng, 0, 0), opt);
-    ASSERT_GT(expect_summary_sound(fast), 100u);
+    ASSERT_GT(expect_summary_sound(fast), 6400u);
   };
   // Cells 1 m east of the origin (inside saturated blocks).
   const auto write = [](OccupancyGrid& g, int kind) {

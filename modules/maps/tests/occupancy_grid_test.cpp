@@ -48,6 +48,42 @@ TEST(OccupancyGrid, ResizeKeepsContentAndWorldPositions) {
   EXPECT_THROW(g.set_free_probability(0, 0, std::nanf("")), InvalidArgument);
 }
 
+// Growths in every direction, most of them within the capacity the first
+// one reserved (rows move in place): each cell keeps its value at its world
+// position and every new cell holds the fill value of its growth.
+TEST(OccupancyGrid, RepeatedGrowthKeepsEveryCell) {
+  std::mt19937 rng(3);
+  OccupancyGrid g(-1, 1, -0.5f, 1.5f, 0.1f);
+  std::uniform_int_distribution<int> val(-128, 127);
+  for (auto& c : g.mutable_cells()) c = static_cast<std::int8_t>(val(rng));
+  std::uniform_real_distribution<float> grow(0.0f, 0.6f);
+  std::uniform_int_distribution<int> side(0, 15);
+  for (int k = 0; k < 40; ++k) {
+    SCOPED_TRACE(k);
+    const OccupancyGrid before = g;
+    const int s = side(rng);  // which limits move, as bits
+    const float p_fill = k % 2 ? 0.5f : 0.3f;
+    g.resize(s & 1 ? g.x_min() - grow(rng) : g.x_min(), s & 2 ? g.x_max() + grow(rng) : g.x_max(),
+             s & 4 ? g.y_min() - grow(rng) : g.y_min(), s & 8 ? g.y_max() + grow(rng) : g.y_max(),
+             p_fill, false);
+    const std::int8_t fill = LogOddsLut<std::int8_t>::instance().p2l(p_fill);
+    for (int y = 0; y < static_cast<int>(g.size_y()); ++y) {
+      for (int x = 0; x < static_cast<int>(g.size_x()); ++x) {
+        const float wx = g.idx_to_x(static_cast<std::size_t>(x));
+        const float wy = g.idx_to_y(static_cast<std::size_t>(y));
+        const int ox = before.x_to_idx(wx), oy = before.y_to_idx(wy);
+        const std::int8_t want = before.contains(ox, oy) && wx > before.x_min() && wy > before.y_min()
+                                     ? before.cell(ox, oy)
+                                     : fill;
+        ASSERT_EQ(g.cell(x, y), want) << "cell (" << x << ", " << y << ") of " << g.size_x()
+                                      << " x " << g.size_y();
+      }
+    }
+    // Fresh random content, so that the next growth moves distinct values.
+    for (auto& c : g.mutable_cells()) c = static_cast<std::int8_t>(val(rng));
+  }
+}
+
 TEST(GridClearance, DistanceTransformMatchesBruteForce) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 20; ++trial) {

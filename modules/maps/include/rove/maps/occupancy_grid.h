@@ -36,7 +36,7 @@ struct GridSaturationSummary {
   /// Grid revision at which `blocks` was last known to be right.
   std::uint64_t revision = ~std::uint64_t{0};
   /// log2 of the block side, cells.
-  static constexpr int kLogBlock = 3;
+  static constexpr int kLogBlock = 4;
   /// Block side, cells.
   static constexpr int kBlock = 1 << kLogBlock;
   /// Marker of a saturated block in `blocks`.
