@@ -133,12 +133,22 @@ inline void free_run_saturating(Cell* data, std::ptrdiff_t major, std::ptrdiff_t
     // that multiple. Addresses are below 2^48, so q stays below 2^57.
     auto q = static_cast<std::int64_t>(reinterpret_cast<std::uintptr_t>(base) << kFrBits) + f;
     const std::int64_t dq = major_stride * kFrOne + fr_minor;
-#pragma GCC unroll 4
-    for (int s = 0; s < n_steps; ++s) {
-      auto* b = reinterpret_cast<std::uint8_t*>(static_cast<std::uintptr_t>(q >> kFrBits));
+    const auto update = [add](std::int64_t at) {
+      auto* b = reinterpret_cast<std::uint8_t*>(static_cast<std::uintptr_t>(at >> kFrBits));
       *b = add[*b];
-      q += dq;
+    };
+    // Four steps from one accumulator value (q + k·dq, k < 4, are address
+    // computations the compiler can fold), then one add of 4·dq.
+    const std::int64_t dq2 = 2 * dq, dq3 = 3 * dq, dq4 = 4 * dq;
+    int s = 0;
+    for (; s + 4 <= n_steps; s += 4) {
+      update(q);
+      update(q + dq);
+      update(q + dq2);
+      update(q + dq3);
+      q += dq4;
     }
+    for (; s < n_steps; ++s, q += dq) update(q);
     return;
   }
 #pragma GCC unroll 4
