@@ -397,6 +397,19 @@ template <GridCell Cell>
   }
 }
 
+// The per-ray buffers of insert_impl, reused from scan to scan.
+struct InsertScratch {
+  std::vector<float> end_x, end_y;
+  std::vector<std::uint8_t> ray_ok;
+  std::vector<ThinRay> rays;
+  void resize(std::size_t n) {
+    end_x.resize(n);
+    end_y.resize(n);
+    ray_ok.resize(n);
+    rays.reserve(n);
+  }
+};
+
 struct LocalPoint {
   float x = 0, y = 0;
   int cx = 0, cy = 0;
@@ -564,8 +577,13 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
   bool summary_ok = summary.revision == grid.revision();
 
   // 1) End points (meters) and the bounding box to grow the grid to.
-  std::vector<float> end_x(scan.size()), end_y(scan.size());
-  std::vector<std::uint8_t> ray_ok(scan.size());  // ins.valid(i), read once
+  // Per-ray scratch, kept per thread: a map insertion runs at tens of kHz,
+  // and four allocations per scan show in its time.
+  thread_local InsertScratch scratch;
+  scratch.resize(scan.size());
+  float* const end_x = scratch.end_x.data();
+  float* const end_y = scratch.end_y.data();
+  std::uint8_t* const ray_ok = scratch.ray_ok.data();  // ins.valid(i), read once
   float bx_max = -std::numeric_limits<float>::max(), bx_min = std::numeric_limits<float>::max();
   float by_max = -std::numeric_limits<float>::max(), by_min = std::numeric_limits<float>::max();
   {
@@ -620,8 +638,8 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
     // The fast path needs every visited cell inside the grid and the
     // fixed-point accumulators far from overflow.
     bool fast = grid.contains(cx0, cy0) && sx < (1 << 21) && sy < (1 << 21);
-    std::vector<ThinRay> rays;
-    rays.reserve(scan.size() / static_cast<std::size_t>(step) + 1);
+    std::vector<ThinRay>& rays = scratch.rays;
+    rays.clear();
     for (int i = 0; i < n_rays; i += step) {
       const auto si = static_cast<std::size_t>(i);
       const bool ok = ray_ok[si] != 0;
