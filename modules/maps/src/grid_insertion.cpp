@@ -401,10 +401,11 @@ template <GridCell Cell>
 struct InsertScratch {
   std::vector<float> end_x, end_y;
   std::vector<std::uint8_t> ray_ok;
+  std::vector<int> cell_x, cell_y, fr_dx, fr_dy, n_steps;
   std::vector<ThinRay> rays;
   void resize(std::size_t n) {
-    end_x.resize(n);
-    end_y.resize(n);
+    for (auto* v : {&end_x, &end_y}) v->resize(n);
+    for (auto* v : {&cell_x, &cell_y, &fr_dx, &fr_dy, &n_steps}) v->resize(n);
     ray_ok.resize(n);
     rays.reserve(n);
   }
@@ -584,6 +585,10 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
   float* const end_x = scratch.end_x.data();
   float* const end_y = scratch.end_y.data();
   std::uint8_t* const ray_ok = scratch.ray_ok.data();  // ins.valid(i), read once
+  if (step > 1) {  // rays that decimation skips end at the sensor
+    std::fill(scratch.end_x.begin(), scratch.end_x.end(), px);
+    std::fill(scratch.end_y.begin(), scratch.end_y.end(), py);
+  }
   float bx_max = -std::numeric_limits<float>::max(), bx_min = std::numeric_limits<float>::max();
   float by_max = -std::numeric_limits<float>::max(), by_min = std::numeric_limits<float>::max();
   {
@@ -640,27 +645,47 @@ GridInsertResult insert_impl(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
     bool fast = grid.contains(cx0, cy0) && sx < (1 << 21) && sy < (1 << 21);
     std::vector<ThinRay>& rays = scratch.rays;
     rays.clear();
+    // End cells and DDA steps of every ray, in loops without branches that
+    // the compiler vectorizes (same IEEE operations as per ray: MRPT's
+    // x2idx division, and steps round(|d|·2^kFrBits · (1/n)) in float).
+    {
+      const float gx0 = grid.x_min(), gy0 = grid.y_min(), gres = grid.resolution();
+      const auto n = scan.size();
+      int* const tcx = scratch.cell_x.data();
+      int* const tcy = scratch.cell_y.data();
+      int* const fdx = scratch.fr_dx.data();
+      int* const fdy = scratch.fr_dy.data();
+      int* const nst = scratch.n_steps.data();
+      for (std::size_t i = 0; i < n; ++i) {
+        tcx[i] = static_cast<int>((end_x[i] - gx0) / gres);
+        tcy[i] = static_cast<int>((end_y[i] - gy0) / gres);
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        const int dx = tcx[i] - cx0, dy = tcy[i] - cy0;
+        const int adx = dx < 0 ? -dx : dx, ady = dy < 0 ? -dy : dy;
+        const int steps = adx > ady ? adx : ady;
+        nst[i] = steps;
+        const float inv_n = 1.0f / static_cast<float>(steps > 0 ? steps : 1);
+        // The major axis (|d| = n) gives exactly kFrOne: n·fl(1/n) is
+        // within 2^-23 of 1.
+        const int mx = static_cast<int>(float_round(static_cast<float>(adx * kFrOne) * inv_n));
+        const int my = static_cast<int>(float_round(static_cast<float>(ady * kFrOne) * inv_n));
+        fdx[i] = dx < 0 ? -mx : mx;
+        fdy[i] = dy < 0 ? -my : my;
+      }
+    }
     for (int i = 0; i < n_rays; i += step) {
       const auto si = static_cast<std::size_t>(i);
       const bool ok = ray_ok[si] != 0;
       if (!ok && !invalid_as_free) continue;
-      const int trg_cx = grid.x_to_idx(end_x[si]);
-      const int trg_cy = grid.y_to_idx(end_y[si]);
+      const int trg_cx = scratch.cell_x[si];
+      const int trg_cy = scratch.cell_y[si];
       ROVE_CHECK(grid.contains(trg_cx, trg_cy));
-      const int dx = trg_cx - cx0, dy = trg_cy - cy0;
-      const int adx = std::abs(dx), ady = std::abs(dy);
-      const int n_steps = std::max(adx, ady);
+      const int n_steps = scratch.n_steps[si];
       if (n_steps == 0) continue;
-      // MRPT's steps round(|d|·2^kFrBits · (1/n)) in float: the major axis
-      // (|d| = n) gives exactly kFrOne, since n·fl(1/n) is within 2^-23 of 1.
-      const float inv_n = reciprocal(n_steps);
-      const auto minor_step = [&](int ad, int d) {
-        const int v = static_cast<int>(float_round(static_cast<float>(ad * kFrOne) * inv_n));
-        return d < 0 ? -v : v;
-      };
       ThinRay r;
-      r.fr_dx = adx == n_steps ? (dx < 0 ? -kFrOne : kFrOne) : minor_step(adx, dx);
-      r.fr_dy = ady == n_steps ? (dy < 0 ? -kFrOne : kFrOne) : minor_step(ady, dy);
+      r.fr_dx = scratch.fr_dx[si];
+      r.fr_dy = scratch.fr_dy[si];
       r.n_steps = n_steps;
       r.obs = ok ? ins.obs_free : ins.obs_noecho_free;
       if (ok && scan.ranges[si] < max_dist) {
