@@ -151,6 +151,31 @@ inline void free_run_saturating(Cell* data, std::ptrdiff_t major, std::ptrdiff_t
     for (; s < n_steps; ++s, q += dq) update(q);
     return;
   }
+  if constexpr (kXMajor && sizeof(Cell) == 1) {
+    // Four steps from one accumulator value, with the column steps as
+    // constant offsets (one loop per direction).
+    const auto run = [&]<int kDir>() {
+      auto* b = reinterpret_cast<std::uint8_t*>(base);
+      const std::int64_t fr2 = 2 * fr_minor, fr3 = 3 * fr_minor, fr4 = 4 * fr_minor;
+      const auto update = [add](std::uint8_t* c) { *c = add[*c]; };
+      int s = 0;
+      for (; s + 4 <= n_steps; s += 4) {
+        update(b + (f >> kFrBits) * sx);
+        update(b + kDir + ((f + fr_minor) >> kFrBits) * sx);
+        update(b + 2 * kDir + ((f + fr2) >> kFrBits) * sx);
+        update(b + 3 * kDir + ((f + fr3) >> kFrBits) * sx);
+        b += 4 * kDir;
+        f += fr4;
+      }
+      for (; s < n_steps; ++s, b += kDir, f += fr_minor) update(b + (f >> kFrBits) * sx);
+    };
+    if (dir > 0) {
+      run.template operator()<1>();
+    } else {
+      run.template operator()<-1>();
+    }
+    return;
+  }
 #pragma GCC unroll 4
   for (int s = 0; s < n_steps; ++s) {
     Cell* p = base + (kXMajor ? (f >> kFrBits) * sx : (f >> kFrBits));
