@@ -45,18 +45,6 @@ inline float float_round(float v) {
   return static_cast<float>(t + (frac >= 0.5f) - (frac <= -0.5f));
 }
 
-// 1.0f / n, as MRPT computes it, from a table for the usual ray lengths (a
-// division per ray is a long dependency chain on the ray's setup).
-inline float reciprocal(int n) {
-  constexpr int kTable = 4096;
-  static const std::vector<float> table = [] {
-    std::vector<float> t(kTable);
-    for (int i = 1; i < kTable; ++i) t[static_cast<std::size_t>(i)] = 1.0f / static_cast<float>(i);
-    return t;
-  }();
-  return n < kTable ? table[static_cast<std::size_t>(n)] : 1.0f / static_cast<float>(n);
-}
-
 // The free cells of one thin ray: n_steps fixed-point DDA steps from cell
 // (cx, cy), each checked against the grid (the slow path: a ray that leaves
 // the grid, e.g. from a sensor outside it; MRPT writes out of bounds there).
@@ -126,11 +114,15 @@ inline void free_run_saturating(Cell* data, std::ptrdiff_t major, std::ptrdiff_t
   constexpr int kMax = LogOddsTraits<Cell>::kMax;
   Cell* base = data + major;
   const std::ptrdiff_t major_stride = kXMajor ? dir : dir * sx;
-  if constexpr (!kXMajor && sizeof(Cell) == 1) {
-    // Cell s is at base + s·major_stride + ((f + s·fr) >> kFrBits): one
-    // accumulator q = (base << kFrBits) + f gives the address as q >> kFrBits,
-    // since a multiple of 2^kFrBits added to f moves its floor by exactly
-    // that multiple. Addresses are below 2^48, so q stays below 2^57.
+  // Cell s is at base + s·major_stride + ((f + s·fr) >> kFrBits): one
+  // accumulator q = (base << kFrBits) + f gives the address as q >> kFrBits,
+  // since a multiple of 2^kFrBits added to f moves its floor by exactly
+  // that multiple. q must not overflow: the grid (below 2^31 cells) must
+  // lie below 2^53 (user addresses are below 2^47 on x86-64 Linux, 2^52 on
+  // AArch64; the loop below serves any other).
+  constexpr std::uintptr_t kAccumulatorLimit = std::uintptr_t{1} << 53;
+  if (!kXMajor && sizeof(Cell) == 1 &&
+      reinterpret_cast<std::uintptr_t>(base) < kAccumulatorLimit) {
     auto q = static_cast<std::int64_t>(reinterpret_cast<std::uintptr_t>(base) << kFrBits) + f;
     const std::int64_t dq = major_stride * kFrOne + fr_minor;
     const auto update = [add](std::int64_t at) {
