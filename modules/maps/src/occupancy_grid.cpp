@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <new>
 
 #include "rove/core/check.h"
 
@@ -112,9 +113,14 @@ void OccupancyGridT<Cell>::resize(float new_x_min, float new_x_max, float new_y_
     // A grid that grows once tends to grow again (mapping): half again as
     // much capacity lets the next growths move rows in place, without a new
     // allocation, its page faults, and a fill of the copied cells. Capacity
-    // that is never used is never touched, so it costs address space only.
+    // that is never used is never touched, so it costs address space only;
+    // where even that is refused, the grid gets exactly its size.
     std::vector<Cell> grown;
-    grown.reserve(n_new + n_new / 2);
+    try {
+      grown.reserve(n_new + n_new / 2);
+    } catch (const std::bad_alloc&) {
+      grown.reserve(n_new);
+    }
     grown.assign(n_new, fill);
     for (std::uint32_t y = 0; y < size_y_; ++y) {
       std::memcpy(&grown[off_x + static_cast<std::size_t>(y + off_y) * new_size_x],
