@@ -150,6 +150,57 @@ Eigen::Vector3d normal_of_gicp_covariance(const Eigen::Matrix3d& C, double epsil
   return nn.col(j) / std::sqrt(top);
 }
 
+/// Squared distance as KdTree computes it (float, (0 + dx²) + dy² + dz²), so
+/// that comparisons agree with its searches.
+inline float tree_sq_distance(const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+  const float dx = a.x() - b.x(), dy = a.y() - b.y(), dz = a.z() - b.z();
+  return dx * dx + dy * dy + dz * dz;
+}
+
+/// The unique nearest target point to q, found without a tree search by
+/// walking from `start` over the target's neighbourhoods; −1 when that
+/// cannot be certified (then search the tree). Point p is q's unique
+/// nearest when q is strictly nearer to p than to each of p's k nearest
+/// and |q − p| < r/2, r the distance from p to the farthest of them: every
+/// other point p' lies at |p' − p| >= r, so |q − p'| >= r − |q − p| > |q − p|.
+/// The half is taken with a margin (1e-4 relative) far above the rounding
+/// of the float distances, so the computed distances order as the true ones
+/// and the tree would return the same point. A neighbour strictly nearer
+/// than p moves the walk there.
+struct Walk {
+  std::uint32_t point;  // where the walk ended: q's nearest when certified
+  bool certified;
+};
+Walk certified_nearest(const PreparedCloud3D& target, const Eigen::Vector3f& q, std::uint32_t start) {
+  const std::size_t k = target.neighbors_per_point();
+  const std::uint32_t* rows = target.neighbor_indices().data();
+  const float* reach_sq = target.neighbor_reach_sq().data();
+  const Eigen::Vector3f* pts = target.points().data();
+  std::uint32_t p = start;
+  float dp = tree_sq_distance(q, pts[p]);
+  for (int step = 0; step < 4; ++step) {
+    const std::uint32_t* row = rows + static_cast<std::size_t>(p) * k;
+    std::uint32_t best = p;
+    float best_d = dp;
+    bool tie = false;
+    for (std::size_t j = 0; j < k; ++j) {
+      const std::uint32_t o = row[j];
+      if (o == p) continue;
+      const float d = tree_sq_distance(q, pts[o]);
+      tie = tie || d == best_d;
+      if (d < best_d) {
+        best = o;
+        best_d = d;
+        tie = false;
+      }
+    }
+    if (best == p) return {p, !tie && 4.0f * dp < reach_sq[p] * (1.0f - 1e-4f)};
+    p = best;
+    dp = best_d;
+  }
+  return {p, false};
+}
+
 /// Pairs every source point (moved by T) with its nearest target point within
 /// max_dist. `slot` holds the previous pairing (−1: none; empty on the
 /// first call): the previous partner's distance bounds the search, which
@@ -161,15 +212,40 @@ void find_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   const float gate = static_cast<float>(max_dist);
+  // Admitted as the tree admits: strictly below one ulp above gate².
+  const float gate_sq = std::nextafter(gate * gate, std::numeric_limits<float>::infinity());
+  const bool certify = target.has_neighborhoods();
   // Source points in their tree's order: consecutive queries are close in
   // space, so their searches walk the same part of the target tree.
   const std::span<const std::uint32_t> order = source.tree().tree_order();
-  detail::parallel_for(source.size(), team, [&](std::size_t k) {
-    const std::size_t i = order[k];
-    const Eigen::Vector3f q = R * source.points()[i] + t;
-    // The previous partner (none: an out-of-range hint) bounds the search.
-    const auto nn = target.tree().nearest(q, gate, static_cast<std::uint32_t>(slot[i]));
-    slot[i] = nn ? static_cast<std::int64_t>(nn->index) : -1;
+  struct Nothing {
+    Nothing& operator+=(const Nothing&) { return *this; }
+  };
+  detail::parallel_reduce(source.size(), team, Nothing{}, [&](std::size_t b, std::size_t e, Nothing&) {
+    // The partner of the previous query of the block: where a query without
+    // a partner of its own (the first iteration) starts its walk.
+    std::int64_t previous = -1;
+    for (std::size_t k = b; k < e; ++k) {
+      const std::size_t i = order[k];
+      const Eigen::Vector3f q = R * source.points()[i] + t;
+      std::int64_t hint = slot[i] >= 0 ? slot[i] : previous;
+      if (certify && hint >= 0) {
+        const Walk w = certified_nearest(target, q, static_cast<std::uint32_t>(hint));
+        if (w.certified) {
+          previous = w.point;
+          slot[i] = tree_sq_distance(q, target.points()[w.point]) < gate_sq
+                        ? static_cast<std::int64_t>(w.point)
+                        : std::int64_t{-1};
+          continue;
+        }
+        hint = w.point;
+      }
+      // The hint (none: −1, out of range) bounds the search: the same
+      // nearest point, a smaller ball.
+      const auto nn = target.tree().nearest(q, gate, static_cast<std::uint32_t>(hint));
+      slot[i] = nn ? static_cast<std::int64_t>(nn->index) : -1;
+      if (nn) previous = slot[i];
+    }
   });
   pairs.clear();
   for (std::size_t i = 0; i < slot.size(); ++i)

@@ -16,10 +16,13 @@ struct Nothing {
 };
 // Returns the distance to the farthest of the neighbours used (0 if fewer
 // than 3 were found); `bound` limits the search (infinite: none).
+// `neighbors` (k entries, or null) receives the neighbours' indices and
+// `reach_sq` (or null) the squared distance to the farthest.
 template <typename PointOf>
 float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
                     std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
-                    Eigen::Matrix3d* covariance, float bound);
+                    Eigen::Matrix3d* covariance, float bound, std::uint32_t* neighbors = nullptr,
+                    float* reach_sq = nullptr);
 }  // namespace
 
 PreparedCloud3D::PreparedCloud3D() = default;
@@ -53,6 +56,9 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
   // unbounded first search, so the results do not depend on the threads.
   const std::span<const std::uint32_t> order = tree_.tree_order();
   const std::size_t k = std::min(options.neighbors, points_.size());
+  neighbors_per_point_ = k;
+  neighbor_indices_.assign(points_.size() * k, 0);
+  neighbor_reach_sq_.assign(points_.size(), 0.0f);
   constexpr float kInf = std::numeric_limits<float>::infinity();
   detail::parallel_reduce(order.size(), options.num_threads, Nothing{},
                           [&](std::size_t begin, std::size_t end, Nothing&) {
@@ -66,7 +72,8 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
           reach == kInf ? kInf : (reach + (q - prev).norm()) * (1 + 1e-5f) + 1e-6f;
       reach = local_surface(tree_, point, q, k, options.gicp_epsilon,
                             options.normals ? &normals_[i] : nullptr,
-                            options.covariances ? &covariances_[i] : nullptr, bound);
+                            options.covariances ? &covariances_[i] : nullptr, bound,
+                            &neighbor_indices_[i * k], &neighbor_reach_sq_[i]);
       prev = q;
     }
   });
@@ -79,7 +86,8 @@ namespace {
 template <typename PointOf>
 float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
                     std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
-                    Eigen::Matrix3d* covariance, float bound) {
+                    Eigen::Matrix3d* covariance, float bound, std::uint32_t* neighbors,
+                    float* reach_sq) {
   constexpr std::size_t kMaxK = 64;
   Neighbor<float> buf[kMaxK];
   std::vector<Neighbor<float>> big;
@@ -90,6 +98,9 @@ float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vec
   }
   std::size_t m = std::isfinite(bound) ? tree.knn(query, k, nn, bound) : tree.knn(query, k, nn);
   if (m < std::min(k, tree.size())) m = tree.knn(query, k, nn);  // the bound was too tight
+  if (neighbors)
+    for (std::size_t j = 0; j < m; ++j) neighbors[j] = nn[j].index;
+  if (reach_sq && m > 0) *reach_sq = nn[m - 1].sq_distance;
   if (m < 3) {
     if (normal) normal->setZero();
     if (covariance) *covariance = Eigen::Matrix3d::Identity();

@@ -92,6 +92,37 @@ TEST(Dataset, SmallGicpPairSingleLevelWithTenNeighbours) {
   }
 }
 
+// Pairing walks the target's neighbourhoods (from its normals or
+// covariances) and searches the tree only where the walk cannot certify the
+// nearest point. The pairs must be exactly the tree's: point-to-point ICP,
+// which ignores normals, gives the same run against a target with
+// neighbourhoods as against a bare one, from several starts.
+TEST(Dataset, SmallGicpPairingByNeighbourhoodsEqualsTreeSearch) {
+  for (const char* f : {"small_gicp_source.ply", "small_gicp_target.ply"}) require_file(kData + f);
+  const auto source = voxel_downsample(read_ply(kData + "small_gicp_source.ply"), 0.25f).points();
+  const auto target = voxel_downsample(read_ply(kData + "small_gicp_target.ply"), 0.25f).points();
+  PrepareOptions with;
+  with.normals = true;
+  with.neighbors = 10;
+  const PreparedCloud3D bare_target(target);
+  const PreparedCloud3D walk_target(target, with);
+  ASSERT_FALSE(bare_target.has_neighborhoods());
+  ASSERT_TRUE(walk_target.has_neighborhoods());
+  const PreparedCloud3D src(source);
+  for (const auto& start : {Eigen::Isometry3d::Identity(), test::make_pose(0.5, -0.3, 0.1, 0.02, 0.01, 0.1),
+                            test::make_pose(-1.0, 0.4, 0, 0, 0, -0.2)}) {
+    Icp3dOptions o;
+    o.method = Icp3dMethod::PointToPoint;
+    o.max_iterations = 30;
+    const auto a = icp_3d(bare_target, src, start, o);
+    const auto b = icp_3d(walk_target, src, start, o);
+    EXPECT_EQ(a.matrix, b.matrix);
+    EXPECT_EQ(a.iterations, b.iterations);
+    EXPECT_EQ(a.correspondences, b.correspondences);
+    EXPECT_EQ(a.information, b.information);
+  }
+}
+
 TEST(Dataset, PclNdtTutorialPairMatchesPcl) {
   require_file(kData + "room_scan1.pcd");
   require_file(kRef + "pcl_ndt_room_reference.txt");

@@ -100,6 +100,52 @@ TEST(PreparedCloud3D, BoundedSearchesGiveTheUnboundedSurfaces) {
   }
 }
 
+// The neighbourhoods kept for pairing are the k nearest of each point, as
+// the tree finds them, with the squared distance to the farthest.
+TEST(PreparedCloud3D, KeepsTheNeighbourhoods) {
+  const auto scene = test::as_seen_from(test::room_3d(0.2), Eigen::Isometry3d::Identity(), 0.01, 6);
+  PrepareOptions o;
+  o.covariances = true;
+  o.neighbors = 7;
+  const PreparedCloud3D cloud(scene, o);
+  ASSERT_EQ(cloud.neighbors_per_point(), 7u);
+  ASSERT_EQ(cloud.neighbor_indices().size(), 7 * cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const auto want = cloud.tree().knn(cloud.points()[i], 7);
+    for (std::size_t j = 0; j < 7; ++j)
+      ASSERT_EQ(cloud.neighbor_indices()[i * 7 + j], want[j].index) << "point " << i;
+    ASSERT_EQ(cloud.neighbor_reach_sq()[i], want[6].sq_distance);
+  }
+  EXPECT_FALSE(PreparedCloud3D(scene).has_neighborhoods());
+  // Fewer points than neighbours: every point is in every row.
+  const std::vector<Eigen::Vector3f> three{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const PreparedCloud3D small(three, o);
+  EXPECT_EQ(small.neighbors_per_point(), 3u);
+}
+
+// Pairs found by walking the target's neighbourhoods equal the tree's:
+// point-to-point ICP ignores normals, so a target with them (and so with
+// neighbourhoods) must give the very same run as a bare one.
+TEST(Icp3d, NeighbourhoodWalkPairsAsTheTree) {
+  const auto scene = test::room_3d(0.15);
+  const auto src = test::as_seen_from(test::room_3d(0.25), make_pose(0.3, -0.2, 0.05, 0.03, -0.02, 0.1), 0.01, 7);
+  PrepareOptions with;
+  with.normals = true;
+  with.neighbors = 8;
+  const PreparedCloud3D bare(scene), walk(scene, with), source(src);
+  for (double gate : {0.1, 0.5, 2.0}) {
+    Icp3dOptions o;
+    o.method = Icp3dMethod::PointToPoint;
+    o.max_correspondence_distance = gate;
+    const auto a = icp_3d(bare, source, Eigen::Isometry3d::Identity(), o);
+    const auto b = icp_3d(walk, source, Eigen::Isometry3d::Identity(), o);
+    SCOPED_TRACE(gate);
+    EXPECT_EQ(a.matrix, b.matrix);
+    EXPECT_EQ(a.iterations, b.iterations);
+    EXPECT_EQ(a.correspondences, b.correspondences);
+  }
+}
+
 TEST(Icp3d, BadInputs) {
   const auto scene = test::room_3d(0.3);
   const PreparedCloud3D target(scene, full());

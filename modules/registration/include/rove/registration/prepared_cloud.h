@@ -17,6 +17,7 @@
 /// Thread-safety: immutable after construction.
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -82,6 +83,17 @@ class PreparedCloud3D {
   /// GICP covariances (empty unless computed), m².
   std::span<const Eigen::Matrix3d> covariances() const noexcept { return covariances_; }
   bool has_covariances() const noexcept { return !covariances_.empty(); }
+  /// The neighbourhoods the normals or covariances were computed from (empty
+  /// when neither was): row i, neighbors_per_point() entries from
+  /// neighbor_indices()[i·k], holds the k nearest points of point i (itself
+  /// included), nearest first, as indices into points().
+  std::span<const std::uint32_t> neighbor_indices() const noexcept { return neighbor_indices_; }
+  /// Entries per row of neighbor_indices(): min(options().neighbors, size()).
+  std::size_t neighbors_per_point() const noexcept { return neighbors_per_point_; }
+  /// Squared distance from each point to the farthest of its neighbours,
+  /// m² (empty when neighbor_indices() is): no other point lies nearer.
+  std::span<const float> neighbor_reach_sq() const noexcept { return neighbor_reach_sq_; }
+  bool has_neighborhoods() const noexcept { return !neighbor_indices_.empty(); }
   /// The options it was prepared with.
   const PrepareOptions& options() const noexcept { return options_; }
 
@@ -89,6 +101,9 @@ class PreparedCloud3D {
   std::vector<Eigen::Vector3f> points_;
   std::vector<Eigen::Vector3f> normals_;
   std::vector<Eigen::Matrix3d> covariances_;
+  std::vector<std::uint32_t> neighbor_indices_;
+  std::size_t neighbors_per_point_ = 0;
+  std::vector<float> neighbor_reach_sq_;
   KdTree3f tree_;
   PrepareOptions options_;
 };
