@@ -59,23 +59,82 @@ struct Linear6 {
   }
 };
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
+/// A symmetric 3×3 matrix by its upper triangle.
+struct Sym3 {
+  double xx, xy, xz, yy, yz, zz;
+  Eigen::Vector3d operator*(const Eigen::Vector3d& v) const {
+    return {xx * v.x() + xy * v.y() + xz * v.z(), xy * v.x() + yy * v.y() + yz * v.z(),
+            xz * v.x() + yz * v.y() + zz * v.z()};
+  }
+};
+
+/// GICP's information matrix of one pair in the source frame, with both
+/// covariances of the plane form I − c·uuᵀ (prepared_cloud.h):
+/// (C_s + RᵀC_tR)⁻¹ = (2I − c_s·aaᵀ − c_t·mmᵀ)⁻¹, m = Rᵀn, by its adjugate.
+/// The sum's eigenvalues are at least ε_s + ε_t > 0, so it is never
+/// singular.
+inline Sym3 gicp_information(const Eigen::Vector3d& a, double cs, const Eigen::Vector3d& m, double ct) {
+  const double s00 = 2 - cs * a.x() * a.x() - ct * m.x() * m.x();
+  const double s01 = -cs * a.x() * a.y() - ct * m.x() * m.y();
+  const double s02 = -cs * a.x() * a.z() - ct * m.x() * m.z();
+  const double s11 = 2 - cs * a.y() * a.y() - ct * m.y() * m.y();
+  const double s12 = -cs * a.y() * a.z() - ct * m.y() * m.z();
+  const double s22 = 2 - cs * a.z() * a.z() - ct * m.z() * m.z();
+  const double w00 = s11 * s22 - s12 * s12;
+  const double w01 = s02 * s12 - s01 * s22;
+  const double w02 = s01 * s12 - s02 * s11;
+  const double inv = 1 / (s00 * w00 + s01 * w01 + s02 * w02);
+  return {w00 * inv,
+          w01 * inv,
+          w02 * inv,
+          (s00 * s22 - s02 * s02) * inv,
+          (s01 * s02 - s00 * s12) * inv,
+          (s00 * s11 - s01 * s01) * inv};
 }
 
-/// Adds w·JᵀR W RᵀJ to the upper triangle of a.H and w·JᵀR·v to a.b, for
-/// J = [R, −R[s]×] (see linearize): H += w[W, −WS; SW, −SWS], S = [s]×.
-inline void add_quadratic(Linear6& a, const Eigen::Matrix3d& W, const Eigen::Vector3d& s, double w,
-                          const Eigen::Vector3d& v) {
-  const Eigen::Matrix3d S = skew(s);
-  const Eigen::Matrix3d WS = W * S;
-  a.H.topLeftCorner<3, 3>().noalias() += w * W;
-  a.H.topRightCorner<3, 3>().noalias() -= w * WS;
-  a.H.bottomRightCorner<3, 3>().noalias() -= w * (S * WS);
-  a.b.head<3>().noalias() += w * v;
-  a.b.tail<3>().noalias() += w * s.cross(v);
+/// add_quadratic for a symmetric W, spelled out on the upper triangle:
+/// with S = [s]×, the columns of WS are s₂W₁ − s₁W₂, s₀W₂ − s₂W₀,
+/// s₁W₀ − s₀W₁ (Wⱼ the columns of W), and the rows of S·WS are
+/// s₁(WS)₂ − s₂(WS)₁, s₂(WS)₀ − s₀(WS)₂, s₀(WS)₁ − s₁(WS)₀.
+inline void add_quadratic_sym(Linear6& acc, const Sym3& W, const Eigen::Vector3d& s, double w,
+                              const Eigen::Vector3d& v) {
+  const double s0 = s.x(), s1 = s.y(), s2 = s.z();
+  // Columns of W.
+  const double W00 = W.xx, W10 = W.xy, W20 = W.xz;
+  const double W01 = W.xy, W11 = W.yy, W21 = W.yz;
+  const double W02 = W.xz, W12 = W.yz, W22 = W.zz;
+  // X = W·S by columns.
+  const double X00 = s2 * W01 - s1 * W02, X10 = s2 * W11 - s1 * W12, X20 = s2 * W21 - s1 * W22;
+  const double X01 = s0 * W02 - s2 * W00, X11 = s0 * W12 - s2 * W10, X21 = s0 * W22 - s2 * W20;
+  const double X02 = s1 * W00 - s0 * W01, X12 = s1 * W10 - s0 * W11, X22 = s1 * W20 - s0 * W21;
+  // Y = S·X, upper triangle.
+  const double Y00 = s1 * X20 - s2 * X10, Y01 = s1 * X21 - s2 * X11, Y02 = s1 * X22 - s2 * X12;
+  const double Y11 = s2 * X01 - s0 * X21, Y12 = s2 * X02 - s0 * X22;
+  const double Y22 = s0 * X12 - s1 * X02;
+  Mat6& H = acc.H;
+  H(0, 0) += w * W.xx;
+  H(0, 1) += w * W.xy;
+  H(0, 2) += w * W.xz;
+  H(1, 1) += w * W.yy;
+  H(1, 2) += w * W.yz;
+  H(2, 2) += w * W.zz;
+  H(0, 3) -= w * X00;
+  H(1, 3) -= w * X10;
+  H(2, 3) -= w * X20;
+  H(0, 4) -= w * X01;
+  H(1, 4) -= w * X11;
+  H(2, 4) -= w * X21;
+  H(0, 5) -= w * X02;
+  H(1, 5) -= w * X12;
+  H(2, 5) -= w * X22;
+  H(3, 3) -= w * Y00;
+  H(3, 4) -= w * Y01;
+  H(3, 5) -= w * Y02;
+  H(4, 4) -= w * Y11;
+  H(4, 5) -= w * Y12;
+  H(5, 5) -= w * Y22;
+  acc.b.head<3>() += w * v;
+  acc.b.tail<3>() += w * s.cross(v);
 }
 
 /// Linearizes (or, with `cost_only`, evaluates) the cost of the pairs at T.
@@ -85,7 +144,10 @@ Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
                   Icp3dMethod method, const Kernel& kernel, bool cost_only,
                   detail::ThreadTeam& team) {
   const Eigen::Matrix3d R = T.linear();
+  const Eigen::Matrix3d Rt = R.transpose();
   const Eigen::Vector3d t = T.translation();
+  const double cs = 1 - source.options().gicp_epsilon;
+  const double ct = 1 - target.options().gicp_epsilon;
   Linear6 sum = detail::parallel_reduce(pairs.size(), team, Linear6{},
                                  [&](std::size_t b, std::size_t e, Linear6& a) {
     // With J = ∂q/∂(ρ, ω) = [R, −R[s]×] and Rᵀ applied to the target side,
@@ -100,7 +162,7 @@ Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
         case Icp3dMethod::PointToPoint: {
           const auto kv = kernel.evaluate(q.squaredNorm());
           a.cost += kv.rho;
-          if (!cost_only) add_quadratic(a, Eigen::Matrix3d::Identity(), s, kv.d1, R.transpose() * q);
+          if (!cost_only) add_quadratic_sym(a, Sym3{1, 0, 0, 1, 0, 1}, s, kv.d1, Rt * q);
           break;
         }
         case Icp3dMethod::PointToPlane: {
@@ -109,32 +171,33 @@ Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
           const auto kv = kernel.evaluate(r * r);
           a.cost += kv.rho;
           if (!cost_only) {
-            const Eigen::Vector3d m = R.transpose() * n;
+            const Eigen::Vector3d m = Rt * n;
             Vec6 j;
             j << m, s.cross(m);
-            a.H.noalias() += (kv.d1 * j) * j.transpose();
-            a.b += (kv.d1 * r) * j;
+            const Vec6 wj = kv.d1 * j;
+            for (int c = 0; c < 6; ++c)
+              for (int r2 = 0; r2 <= c; ++r2) a.H(r2, c) += wj[r2] * j[c];
+            a.b += r * wj;
           }
           break;
         }
         case Icp3dMethod::Gicp: {
           // (C_t + R C_s Rᵀ)⁻¹ = R (Rᵀ C_t R + C_s)⁻¹ Rᵀ: invert in the
           // source frame.
-          Eigen::Matrix3d C = source.covariances()[pr.source];
-          C.noalias() += R.transpose() * target.covariances()[pr.target] * R;
-          const Eigen::Matrix3d W = C.inverse();
-          const Eigen::Vector3d qs = R.transpose() * q;
+          const Sym3 W = gicp_information(source.gicp_axes()[pr.source], cs,
+                                          Rt * target.gicp_axes()[pr.target], ct);
+          const Eigen::Vector3d qs = Rt * q;
           const Eigen::Vector3d Wq = W * qs;
           const auto kv = kernel.evaluate(std::max(0.0, qs.dot(Wq)));
           a.cost += kv.rho;
-          if (!cost_only) add_quadratic(a, W, s, kv.d1, Wq);
+          if (!cost_only) add_quadratic_sym(a, W, s, kv.d1, Wq);
           break;
         }
       }
     }
   });
-  // add_quadratic fills the upper triangle only.
-  if (method != Icp3dMethod::PointToPlane) sum.H.triangularView<Eigen::StrictlyLower>() = sum.H.transpose();
+  // Only the upper triangle was accumulated.
+  sum.H.triangularView<Eigen::StrictlyLower>() = sum.H.transpose();
   return sum;
 }
 
@@ -158,15 +221,15 @@ inline float tree_sq_distance(const Eigen::Vector3f& a, const Eigen::Vector3f& b
 }
 
 /// The unique nearest target point to q, found without a tree search by
-/// walking from `start` over the target's neighbourhoods; −1 when that
-/// cannot be certified (then search the tree). Point p is q's unique
-/// nearest when q is strictly nearer to p than to each of p's k nearest
-/// and |q − p| < r/2, r the distance from p to the farthest of them: every
-/// other point p' lies at |p' − p| >= r, so |q − p'| >= r − |q − p| > |q − p|.
-/// The half is taken with a margin (1e-4 relative) far above the rounding
-/// of the float distances, so the computed distances order as the true ones
-/// and the tree would return the same point. A neighbour strictly nearer
-/// than p moves the walk there.
+/// walking from `start` over the target's neighbourhoods. Point p is q's
+/// unique nearest when q is strictly nearer to p than to every point p'
+/// with |p' − p| < 2|q − p|: any other p' has |q − p'| >= |p' − p| − |q − p|
+/// >= |q − p|. Those p' are the front of p's row of neighbours (sorted by
+/// distance), and the row must reach past 2|q − p| — beyond its end lie
+/// points the row does not list. The factor 4 on squares carries a margin
+/// (1e-4 relative) far above the rounding of float distances, so the
+/// computed distances order as the true ones and the tree would return the
+/// same point. A neighbour strictly nearer than p moves the walk there.
 struct Walk {
   std::uint32_t point;  // where the walk ended: q's nearest when certified
   bool certified;
@@ -174,27 +237,34 @@ struct Walk {
 Walk certified_nearest(const PreparedCloud3D& target, const Eigen::Vector3f& q, std::uint32_t start) {
   const std::size_t k = target.neighbors_per_point();
   const std::uint32_t* rows = target.neighbor_indices().data();
-  const float* reach_sq = target.neighbor_reach_sq().data();
+  const float* row_sq = target.neighbor_sq_distances().data();
   const Eigen::Vector3f* pts = target.points().data();
   std::uint32_t p = start;
   float dp = tree_sq_distance(q, pts[p]);
-  for (int step = 0; step < 4; ++step) {
+  for (int step = 0; step < 8; ++step) {
     const std::uint32_t* row = rows + static_cast<std::size_t>(p) * k;
+    const float* sq = row_sq + static_cast<std::size_t>(p) * k;
+    const float reach = 4.0f * dp * (1.0f + 1e-4f);
     std::uint32_t best = p;
     float best_d = dp;
-    bool tie = false;
+    bool tie = false, covered = false;
     for (std::size_t j = 0; j < k; ++j) {
+      if (sq[j] > reach) {
+        covered = true;  // this one and the rest of the row, and all beyond
+        break;
+      }
       const std::uint32_t o = row[j];
       if (o == p) continue;
       const float d = tree_sq_distance(q, pts[o]);
-      tie = tie || d == best_d;
       if (d < best_d) {
         best = o;
         best_d = d;
         tie = false;
+      } else if (d == best_d) {
+        tie = true;
       }
     }
-    if (best == p) return {p, !tie && 4.0f * dp < reach_sq[p] * (1.0f - 1e-4f)};
+    if (best == p) return {p, covered && !tie};
     p = best;
     dp = best_d;
   }

@@ -17,12 +17,12 @@ struct Nothing {
 // Returns the distance to the farthest of the neighbours used (0 if fewer
 // than 3 were found); `bound` limits the search (infinite: none).
 // `neighbors` (k entries, or null) receives the neighbours' indices and
-// `reach_sq` (or null) the squared distance to the farthest.
+// `sq_distances` (k entries, or null) their squared distances.
 template <typename PointOf>
 float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
                     std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
                     Eigen::Matrix3d* covariance, float bound, std::uint32_t* neighbors = nullptr,
-                    float* reach_sq = nullptr);
+                    float* sq_distances = nullptr, Eigen::Vector3d* axis = nullptr);
 }  // namespace
 
 PreparedCloud3D::PreparedCloud3D() = default;
@@ -41,7 +41,10 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
   tree_ = KdTree3f(points_);
   if (points_.empty()) return;
   if (options.normals) normals_.assign(points_.size(), Eigen::Vector3f::Zero());
-  if (options.covariances) covariances_.assign(points_.size(), Eigen::Matrix3d::Identity());
+  if (options.covariances) {
+    covariances_.assign(points_.size(), Eigen::Matrix3d::Identity());
+    gicp_axes_.assign(points_.size(), Eigen::Vector3d::Zero());
+  }
   if (!options.normals && !options.covariances) return;
   // The tree indexes every point of points_ (all finite), so a neighbour's
   // index is its position in points_.
@@ -58,7 +61,7 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
   const std::size_t k = std::min(options.neighbors, points_.size());
   neighbors_per_point_ = k;
   neighbor_indices_.assign(points_.size() * k, 0);
-  neighbor_reach_sq_.assign(points_.size(), 0.0f);
+  neighbor_sq_distances_.assign(points_.size() * k, 0.0f);
   constexpr float kInf = std::numeric_limits<float>::infinity();
   detail::parallel_reduce(order.size(), options.num_threads, Nothing{},
                           [&](std::size_t begin, std::size_t end, Nothing&) {
@@ -73,7 +76,8 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
       reach = local_surface(tree_, point, q, k, options.gicp_epsilon,
                             options.normals ? &normals_[i] : nullptr,
                             options.covariances ? &covariances_[i] : nullptr, bound,
-                            &neighbor_indices_[i * k], &neighbor_reach_sq_[i]);
+                            &neighbor_indices_[i * k], &neighbor_sq_distances_[i * k],
+                            options.covariances ? &gicp_axes_[i] : nullptr);
       prev = q;
     }
   });
@@ -87,7 +91,7 @@ template <typename PointOf>
 float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
                     std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
                     Eigen::Matrix3d* covariance, float bound, std::uint32_t* neighbors,
-                    float* reach_sq) {
+                    float* sq_distances, Eigen::Vector3d* axis) {
   constexpr std::size_t kMaxK = 64;
   Neighbor<float> buf[kMaxK];
   std::vector<Neighbor<float>> big;
@@ -98,12 +102,14 @@ float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vec
   }
   std::size_t m = std::isfinite(bound) ? tree.knn(query, k, nn, bound) : tree.knn(query, k, nn);
   if (m < std::min(k, tree.size())) m = tree.knn(query, k, nn);  // the bound was too tight
-  if (neighbors)
-    for (std::size_t j = 0; j < m; ++j) neighbors[j] = nn[j].index;
-  if (reach_sq && m > 0) *reach_sq = nn[m - 1].sq_distance;
+  for (std::size_t j = 0; j < m; ++j) {
+    if (neighbors) neighbors[j] = nn[j].index;
+    if (sq_distances) sq_distances[j] = nn[j].sq_distance;
+  }
   if (m < 3) {
     if (normal) normal->setZero();
     if (covariance) *covariance = Eigen::Matrix3d::Identity();
+    if (axis) axis->setZero();
     return std::numeric_limits<float>::infinity();
   }
   const float reach = std::sqrt(nn[m - 1].sq_distance);
@@ -129,10 +135,12 @@ float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vec
   if (covariance) {
     if (flat) {
       *covariance = Eigen::Matrix3d::Identity();
+      if (axis) axis->setZero();
     } else {
       // V·diag(ε, 1, 1)·Vᵀ = I − (1 − ε)·v₁v₁ᵀ.
       const Eigen::Vector3d v = eig.eigenvectors().col(0);
       *covariance = Eigen::Matrix3d::Identity() - (1.0 - gicp_epsilon) * v * v.transpose();
+      if (axis) *axis = v;
     }
   }
   return reach;

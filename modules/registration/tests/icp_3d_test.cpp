@@ -101,7 +101,7 @@ TEST(PreparedCloud3D, BoundedSearchesGiveTheUnboundedSurfaces) {
 }
 
 // The neighbourhoods kept for pairing are the k nearest of each point, as
-// the tree finds them, with the squared distance to the farthest.
+// the tree finds them, with their squared distances.
 TEST(PreparedCloud3D, KeepsTheNeighbourhoods) {
   const auto scene = test::as_seen_from(test::room_3d(0.2), Eigen::Isometry3d::Identity(), 0.01, 6);
   PrepareOptions o;
@@ -112,9 +112,10 @@ TEST(PreparedCloud3D, KeepsTheNeighbourhoods) {
   ASSERT_EQ(cloud.neighbor_indices().size(), 7 * cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const auto want = cloud.tree().knn(cloud.points()[i], 7);
-    for (std::size_t j = 0; j < 7; ++j)
+    for (std::size_t j = 0; j < 7; ++j) {
       ASSERT_EQ(cloud.neighbor_indices()[i * 7 + j], want[j].index) << "point " << i;
-    ASSERT_EQ(cloud.neighbor_reach_sq()[i], want[6].sq_distance);
+      ASSERT_EQ(cloud.neighbor_sq_distances()[i * 7 + j], want[j].sq_distance) << "point " << i;
+    }
   }
   EXPECT_FALSE(PreparedCloud3D(scene).has_neighborhoods());
   // Fewer points than neighbours: every point is in every row.

@@ -83,6 +83,10 @@ class PreparedCloud3D {
   /// GICP covariances (empty unless computed), m².
   std::span<const Eigen::Matrix3d> covariances() const noexcept { return covariances_; }
   bool has_covariances() const noexcept { return !covariances_.empty(); }
+  /// The axis of each GICP covariance (empty unless computed): the unit
+  /// vector v₁ with covariances()[i] = I − (1 − ε)·v₁v₁ᵀ, or zero where the
+  /// covariance is I (a neighbourhood without extent).
+  std::span<const Eigen::Vector3d> gicp_axes() const noexcept { return gicp_axes_; }
   /// The neighbourhoods the normals or covariances were computed from (empty
   /// when neither was): row i, neighbors_per_point() entries from
   /// neighbor_indices()[i·k], holds the k nearest points of point i (itself
@@ -90,9 +94,10 @@ class PreparedCloud3D {
   std::span<const std::uint32_t> neighbor_indices() const noexcept { return neighbor_indices_; }
   /// Entries per row of neighbor_indices(): min(options().neighbors, size()).
   std::size_t neighbors_per_point() const noexcept { return neighbors_per_point_; }
-  /// Squared distance from each point to the farthest of its neighbours,
-  /// m² (empty when neighbor_indices() is): no other point lies nearer.
-  std::span<const float> neighbor_reach_sq() const noexcept { return neighbor_reach_sq_; }
+  /// The squared distances (m², float, as the tree computes them) matching
+  /// neighbor_indices() entry for entry: ascending along a row, and no
+  /// point outside row i lies nearer to point i than its last entry.
+  std::span<const float> neighbor_sq_distances() const noexcept { return neighbor_sq_distances_; }
   bool has_neighborhoods() const noexcept { return !neighbor_indices_.empty(); }
   /// The options it was prepared with.
   const PrepareOptions& options() const noexcept { return options_; }
@@ -101,9 +106,10 @@ class PreparedCloud3D {
   std::vector<Eigen::Vector3f> points_;
   std::vector<Eigen::Vector3f> normals_;
   std::vector<Eigen::Matrix3d> covariances_;
+  std::vector<Eigen::Vector3d> gicp_axes_;
   std::vector<std::uint32_t> neighbor_indices_;
   std::size_t neighbors_per_point_ = 0;
-  std::vector<float> neighbor_reach_sq_;
+  std::vector<float> neighbor_sq_distances_;
   KdTree3f tree_;
   PrepareOptions options_;
 };
