@@ -155,6 +155,9 @@ struct KdTree<Dim, Scalar>::Impl {
   std::vector<std::uint32_t> parent;
   std::vector<BoxT> cells;
   std::vector<std::uint32_t> leaf_of;  // tree position -> leaf node
+  // Inner nodes on the longest root-to-leaf path (the stack search() needs).
+  std::size_t depth = 0;
+  static constexpr std::size_t kStackDepth = 64;
 
   BoxT bounds(std::uint32_t first, std::uint32_t last) const {
     BoxT b;
@@ -196,7 +199,7 @@ struct KdTree<Dim, Scalar>::Impl {
   /// Builds the subtree over the points [first, last) (non-empty) of the
   /// cell `cell`; returns the bounding box of those points in `tight`.
   void build(std::uint32_t first, std::uint32_t last, const BoxT& cell, const BoxT& open_cell,
-             std::uint32_t up, BoxT& tight) {
+             std::uint32_t up, BoxT& tight, std::size_t level = 0) {
     const auto self = static_cast<std::uint32_t>(nodes.size());
     nodes.push_back(NodeT{first, last, 0, 0});
     parent.push_back(up);
@@ -205,6 +208,7 @@ struct KdTree<Dim, Scalar>::Impl {
     const std::uint32_t count = last - first;
     if (count <= options.leaf_size) {
       for (std::uint32_t i = first; i < last; ++i) leaf_of[i] = self;
+      depth = std::max(depth, level);
       return;
     }
 
@@ -244,9 +248,9 @@ struct KdTree<Dim, Scalar>::Impl {
     right_open.lo[dim] = split;
     BoxT left_tight;
     BoxT right_tight;
-    build(first, cut, left_cell, left_open, self, left_tight);
+    build(first, cut, left_cell, left_open, self, left_tight, level + 1);
     const auto right = static_cast<std::uint32_t>(nodes.size());
-    build(cut, last, right_cell, right_open, self, right_tight);
+    build(cut, last, right_cell, right_open, self, right_tight, level + 1);
     nodes[self] = NodeT{right, static_cast<std::uint32_t>(dim), left_tight.hi[dim], right_tight.lo[dim]};
   }
 
@@ -268,9 +272,80 @@ struct KdTree<Dim, Scalar>::Impl {
   /// squared distance from q to the node's region, and dists[d] its part
   /// along dimension d, updated incrementally as the search crosses split
   /// planes (Arya and Mount, "Algorithms for fast vector quantization",
-  /// DCC 1993, section 3).
+  /// DCC 1993, section 3). The near child first; the far child when its
+  /// bound still admits points once the near side is done.
+  ///
+  /// Iterative, with the far children waiting on a stack of at most the
+  /// tree's depth (one per level of the current path): the recursive form
+  /// spent a third of a 3D k-nearest search on calls. A tree deeper than
+  /// the fixed stack (only adversarial data) takes the recursive form; both
+  /// visit the same nodes in the same order.
   template <class Set>
   void search(std::uint32_t n, const Scalar* q, Scalar min_sq, std::array<Scalar, Dim>& dists, Set& set) const {
+    if (depth > kStackDepth) {
+      search_recursive(n, q, min_sq, dists, set);
+      return;
+    }
+    struct Pending {
+      std::uint32_t node;
+      Scalar min_sq;
+      std::array<Scalar, Dim> dists;
+    };
+    Pending stack[kStackDepth];
+    std::size_t top = 0;
+    for (;;) {
+      const NodeT* node = &nodes[n];
+      while (!node->is_leaf()) {
+        const int dim = static_cast<int>(node->last);
+        const Scalar v = q[dim];
+        const Scalar to_low = v - node->low;
+        const Scalar to_high = v - node->high;
+        std::uint32_t near_child, far_child;
+        Scalar cut;
+        if (to_low + to_high < 0) {
+          near_child = n + 1;
+          far_child = node->first;
+          cut = to_high * to_high;
+        } else {
+          near_child = node->first;
+          far_child = n + 1;
+          cut = to_low * to_low;
+        }
+        const Scalar far_sq = min_sq + cut - dists[dim];
+        // The bound only shrinks: a far child it rejects now stays rejected.
+        if (far_sq <= set.bound()) {
+          Pending& f = stack[top++];
+          f.node = far_child;
+          f.min_sq = far_sq;
+          f.dists = dists;
+          f.dists[dim] = cut;
+        }
+        n = near_child;
+        node = &nodes[n];
+      }
+      for (std::uint32_t i = node->first; i < node->last; ++i) {
+        const Scalar d = sq_distance<Dim, Scalar>(q, points[i].data());
+        if (d < set.bound()) set.add(d, i);
+      }
+      // The next far child still admitted, deepest first.
+      for (;;) {
+        if (top == 0) return;
+        const Pending& f = stack[--top];
+        if (f.min_sq <= set.bound()) {
+          n = f.node;
+          min_sq = f.min_sq;
+          dists = f.dists;
+          break;
+        }
+      }
+    }
+  }
+
+  /// The recursive form of search() (same nodes, same order), for trees
+  /// deeper than its stack.
+  template <class Set>
+  void search_recursive(std::uint32_t n, const Scalar* q, Scalar min_sq, std::array<Scalar, Dim>& dists,
+                        Set& set) const {
     const NodeT& node = nodes[n];
     if (node.is_leaf()) {
       for (std::uint32_t i = node.first; i < node.last; ++i) {
@@ -295,12 +370,12 @@ struct KdTree<Dim, Scalar>::Impl {
       far_child = n + 1;
       cut = to_low * to_low;
     }
-    search(near_child, q, min_sq, dists, set);
+    search_recursive(near_child, q, min_sq, dists, set);
     const Scalar saved = dists[dim];
     min_sq = min_sq + cut - saved;
     if (min_sq <= set.bound()) {
       dists[dim] = cut;
-      search(far_child, q, min_sq, dists, set);
+      search_recursive(far_child, q, min_sq, dists, set);
       dists[dim] = saved;
     }
   }
