@@ -183,6 +183,25 @@ void degenerate_check(const std::vector<Eigen::Matrix<Scalar, 3, 1>>& pts, std::
   for (std::size_t i = 0; i < pts.size(); i += 37) EXPECT_EQ(tree.indexed_point(static_cast<std::uint32_t>(i)), pts[i]);
 }
 
+// Points at x = 2^i: every sliding-midpoint split peels one point off, so
+// the tree is about 300 levels deep, deeper than the iterative search's
+// stack; the searches take the recursive form and must still be exact.
+TEST(KdTree, VeryDeepTreeMatchesBruteForce) {
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 300; ++i) pts.emplace_back(std::ldexp(1.0, i - 150), 0.25 * (i % 3), 0);
+  KdTree3d tree(pts, KdTreeOptions{1});
+  for (int i = 0; i < 300; i += 7) {
+    const Eigen::Vector3d q(std::ldexp(1.3, i - 150), 0.1, 0.05);
+    const auto all = brute_all<3, double>(pts, q);
+    EXPECT_EQ(tree.nearest(q)->sq_distance, all[0].sq_distance);
+    for (std::size_t k : {1u, 5u, 40u}) expect_same_knn(tree.knn(q, k), all, k);
+    const auto within = tree.radius(q, std::ldexp(1.0, i - 150));
+    std::size_t want = 0;
+    for (const auto& a : all) want += a.sq_distance <= std::ldexp(1.0, 2 * (i - 150)) ? 1 : 0;
+    EXPECT_EQ(within.size(), want);
+  }
+}
+
 TEST(KdTree, TreeOrderIsAPermutationOfTheIndexedPoints) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-5, 5);
