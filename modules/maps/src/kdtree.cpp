@@ -291,35 +291,30 @@ struct KdTree<Dim, Scalar>::Impl {
       Scalar min_sq;
       std::array<Scalar, Dim> dists;
     };
-    Pending stack[kStackDepth];
+    Pending stack[kStackDepth + 1];
     std::size_t top = 0;
     for (;;) {
       const NodeT* node = &nodes[n];
       while (!node->is_leaf()) {
+        // Branch-free: which side is near depends on the data, so a branch
+        // here is mispredicted half the time.
         const int dim = static_cast<int>(node->last);
         const Scalar v = q[dim];
         const Scalar to_low = v - node->low;
         const Scalar to_high = v - node->high;
-        std::uint32_t near_child, far_child;
-        Scalar cut;
-        if (to_low + to_high < 0) {
-          near_child = n + 1;
-          far_child = node->first;
-          cut = to_high * to_high;
-        } else {
-          near_child = node->first;
-          far_child = n + 1;
-          cut = to_low * to_low;
-        }
+        const bool left = to_low + to_high < 0;
+        const std::uint32_t right_child = node->first;
+        const std::uint32_t near_child = left ? n + 1 : right_child;
+        const std::uint32_t far_child = left ? right_child : n + 1;
+        const Scalar cut = left ? to_high * to_high : to_low * to_low;
         const Scalar far_sq = min_sq + cut - dists[dim];
         // The bound only shrinks: a far child it rejects now stays rejected.
-        if (far_sq <= set.bound()) {
-          Pending& f = stack[top++];
-          f.node = far_child;
-          f.min_sq = far_sq;
-          f.dists = dists;
-          f.dists[dim] = cut;
-        }
+        Pending& f = stack[top];
+        f.node = far_child;
+        f.min_sq = far_sq;
+        f.dists = dists;
+        f.dists[dim] = cut;
+        top += far_sq <= set.bound() ? 1 : 0;
         n = near_child;
         node = &nodes[n];
       }
