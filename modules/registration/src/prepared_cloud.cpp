@@ -1,9 +1,10 @@
 #include "rove/registration/prepared_cloud.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 #include "rove/core/check.h"
 #include "rove/registration/parallel.h"
@@ -115,30 +116,42 @@ float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vec
   const float reach = std::sqrt(nn[m - 1].sq_distance);
   // Moments about the query point: the sums stay small, so the covariance
   // keeps its precision far from the origin.
-  const Eigen::Vector3d origin = query.cast<double>();
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+  const double ox = query.x(), oy = query.y(), oz = query.z();
+  double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
   for (std::size_t j = 0; j < m; ++j) {
-    const Eigen::Vector3d p = Eigen::Vector3f(point(nn[j].index)).cast<double>() - origin;
-    mean += p;
-    S.noalias() += p * p.transpose();
+    const Eigen::Vector3f& pf = point(nn[j].index);
+    const double x = static_cast<double>(pf.x()) - ox;
+    const double y = static_cast<double>(pf.y()) - oy;
+    const double z = static_cast<double>(pf.z()) - oz;
+    sx += x;
+    sy += y;
+    sz += z;
+    sxx += x * x;
+    sxy += x * y;
+    sxz += x * z;
+    syy += y * y;
+    syz += y * z;
+    szz += z * z;
   }
-  mean /= static_cast<double>(m);
-  Eigen::Matrix3d C = S / static_cast<double>(m);
-  C.noalias() -= mean * mean.transpose();
-  // Closed-form 3×3 eigen-decomposition (as small_gicp): the iterative
-  // solver costs more than the neighbour search here.
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-  eig.computeDirect(C);
-  const bool flat = !(eig.eigenvalues()(2) > 0);
-  if (normal) *normal = flat ? Eigen::Vector3f::Zero() : Eigen::Vector3f(eig.eigenvectors().col(0).cast<float>());
+  const double inv = 1.0 / static_cast<double>(m);
+  const double mx = sx * inv, my = sy * inv, mz = sz * inv;
+  Eigen::Matrix3d C;
+  C(0, 0) = sxx * inv - mx * mx;
+  C(0, 1) = C(1, 0) = sxy * inv - mx * my;
+  C(0, 2) = C(2, 0) = sxz * inv - mx * mz;
+  C(1, 1) = syy * inv - my * my;
+  C(1, 2) = C(2, 1) = syz * inv - my * mz;
+  C(2, 2) = szz * inv - mz * mz;
+  double lambda = 0;
+  Eigen::Vector3d v;
+  const bool flat = !smallest_eigenpair_psd(C, lambda, v);
+  if (normal) *normal = flat ? Eigen::Vector3f::Zero() : Eigen::Vector3f(v.cast<float>());
   if (covariance) {
     if (flat) {
       *covariance = Eigen::Matrix3d::Identity();
       if (axis) axis->setZero();
     } else {
       // V·diag(ε, 1, 1)·Vᵀ = I − (1 − ε)·v₁v₁ᵀ.
-      const Eigen::Vector3d v = eig.eigenvectors().col(0);
       *covariance = Eigen::Matrix3d::Identity() - (1.0 - gicp_epsilon) * v * v.transpose();
       if (axis) *axis = v;
     }
@@ -147,6 +160,78 @@ float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vec
 }
 
 }  // namespace
+
+bool smallest_eigenpair_psd(const Eigen::Matrix3d& C, double& eigenvalue, Eigen::Vector3d& eigenvector) {
+  if (!C.allFinite()) return false;
+  // On C / scale: entries at most 1, and tr >= 1 (a PSD matrix's largest
+  // entry is on its diagonal).
+  const double scale = C.cwiseAbs().maxCoeff();
+  if (!(scale > 0)) return false;
+  const double xx = C(0, 0) / scale, xy = C(0, 1) / scale, xz = C(0, 2) / scale;
+  const double yy = C(1, 1) / scale, yz = C(1, 2) / scale, zz = C(2, 2) / scale;
+  const double tr = xx + yy + zz;
+  const double m2 = xx * yy + xx * zz + yy * zz - xy * xy - xz * xz - yz * yz;
+  const double det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+  // λ₁ is at most the smallest diagonal entry (a Rayleigh quotient).
+  const double ceiling = std::min({xx, yy, zz});
+  double lambda = 0;
+  // Quadratic convergence on a simple root; at a double root (λ₁ = λ₂,
+  // where the eigenvector is any vector of a plane) it halves the gap per
+  // step, so the cap of 64 still reaches double precision. Where q' is
+  // down to rounding (1e-12 of tr², its scale), λ is within ~1e-12 of a
+  // multiple root and a Newton step would divide noise by noise: stop.
+  for (int it = 0; it < 64; ++it) {
+    const double q = ((lambda - tr) * lambda + m2) * lambda - det;
+    const double dq = (3 * lambda - 2 * tr) * lambda + m2;
+    if (!(q < 0) || !(dq > 1e-12 * tr * tr)) break;
+    const double step = -q / dq;
+    const double next = std::min(lambda + step, ceiling);
+    if (!(next > lambda)) break;
+    const bool small = !(next - lambda > 1e-16 * tr);
+    lambda = next;
+    if (small) break;
+  }
+  const Eigen::Vector3d r0(xx - lambda, xy, xz), r1(xy, yy - lambda, yz), r2(xz, yz, zz - lambda);
+  const Eigen::Vector3d c[3] = {r0.cross(r1), r0.cross(r2), r1.cross(r2)};
+  int best = 0;
+  double best_sq = c[0].squaredNorm();
+  for (int i = 1; i < 3; ++i)
+    if (c[i].squaredNorm() > best_sq) {
+      best = i;
+      best_sq = c[i].squaredNorm();
+    }
+  const Eigen::Vector3d* r[3] = {&r0, &r1, &r2};
+  int top = 0;
+  for (int i = 1; i < 3; ++i)
+    if (r[i]->squaredNorm() > r[top]->squaredNorm()) top = i;
+  const double row_sq = r[top]->squaredNorm();
+  // A cross product carries rounding of ~1e-16·|row|²; far above that
+  // (1e-10·|row|²) its direction is good to 1e-6. Below it, λ₁ and λ₂
+  // agree to 1e-10 (relative) and the eigenvector is any vector of their
+  // plane.
+  if (best_sq > 1e-20 * row_sq * row_sq) {
+    eigenvector = c[best] / std::sqrt(best_sq);
+  } else {
+    // Rank one or zero: the eigenspace is a plane (orthogonal to the
+    // largest row) or everything.
+    const Eigen::Vector3d& row = *r[top];
+    if (row_sq > 1e-24) {
+      Eigen::Index axis = 0;
+      row.cwiseAbs().minCoeff(&axis);
+      eigenvector = row.cross(Eigen::Vector3d::Unit(axis)).normalized();
+    } else {
+      eigenvector = Eigen::Vector3d::UnitX();
+    }
+  }
+  // The Rayleigh quotient: exact for an exact eigenvector, and accurate
+  // where λ, a multiple root of the cubic, is found only to the square (or
+  // cube) root of the rounding.
+  const Eigen::Vector3d& v = eigenvector;
+  const double rayleigh = xx * v.x() * v.x() + yy * v.y() * v.y() + zz * v.z() * v.z() +
+                          2 * (xy * v.x() * v.y() + xz * v.x() * v.z() + yz * v.y() * v.z());
+  eigenvalue = std::max(rayleigh, 0.0) * scale;
+  return true;
+}
 
 void local_surface_3d(const KdTree3f& tree, const Eigen::Vector3f& query, std::size_t k,
                       double gicp_epsilon, Eigen::Vector3f* normal, Eigen::Matrix3d* covariance) {

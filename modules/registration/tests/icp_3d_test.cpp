@@ -1,5 +1,8 @@
 #include "rove/registration/icp_3d.h"
 
+#include <random>
+
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "rove/core/error.h"
@@ -98,6 +101,46 @@ TEST(PreparedCloud3D, BoundedSearchesGiveTheUnboundedSurfaces) {
       ASSERT_EQ(cloud.covariances()[i], c) << "point " << i << ", k " << k;
     }
   }
+}
+
+// The trig-free smallest eigenpair against Eigen's solver: separated,
+// planar (λ₁ = 0), double and triple eigenvalues, at several scales.
+TEST(SmallestEigenpair, MatchesEigenOnEverySpectrum) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g;
+  const std::vector<Eigen::Vector3d> spectra = {{0.1, 0.5, 1.0}, {0.0, 0.3, 2.0},  {1e-6, 1.0, 1.0},
+                                                {0.2, 0.2, 1.0}, {0.7, 0.7, 0.7},  {0.0, 0.0, 1.0},
+                                                {1e-3, 1e-3, 5.0}, {0.45, 0.5, 0.55}};
+  for (const double scale : {1e-6, 1.0, 1e4}) {
+    for (const auto& ev : spectra) {
+      for (int trial = 0; trial < 20; ++trial) {
+        const Eigen::Matrix3d Q =
+            Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
+        const Eigen::Matrix3d C = scale * Q * ev.asDiagonal() * Q.transpose();
+        double lambda = -1;
+        Eigen::Vector3d v;
+        ASSERT_TRUE(smallest_eigenpair_psd(C, lambda, v));
+        SCOPED_TRACE(testing::Message() << "spectrum " << ev.transpose() << " scale " << scale);
+        EXPECT_NEAR(v.norm(), 1.0, 1e-12);
+        // A double root of the cubic is found to about the square root of
+        // the rounding, relative to the largest eigenvalue.
+        EXPECT_NEAR(lambda, scale * ev.minCoeff(), 1e-7 * scale);
+        // A simple smallest eigenvalue fixes the direction (up to sign). At
+        // a double root the cubic's value sinks into rounding about 1e-8
+        // from the root, which leaves the vector that far out of the plane.
+        if (ev(1) - ev(0) > 0.05) {
+          EXPECT_NEAR(std::abs(v.dot(Q.col(0))), 1.0, 1e-9);
+          EXPECT_LT((C * v - lambda * v).norm(), 1e-9 * scale);
+        } else {
+          EXPECT_LT((C * v - lambda * v).norm(), 1e-7 * scale * ev.maxCoeff());
+        }
+      }
+    }
+  }
+  double lambda = 0;
+  Eigen::Vector3d v;
+  EXPECT_FALSE(smallest_eigenpair_psd(Eigen::Matrix3d::Zero(), lambda, v));
+  EXPECT_FALSE(smallest_eigenpair_psd(Eigen::Matrix3d::Constant(NAN), lambda, v));
 }
 
 // The neighbourhoods kept for pairing are the k nearest of each point, as
