@@ -174,7 +174,17 @@ bool smallest_eigenpair_psd(const Eigen::Matrix3d& C, double& eigenvalue, Eigen:
   const double det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
   // λ₁ is at most the smallest diagonal entry (a Rayleigh quotient).
   const double ceiling = std::min({xx, yy, zz});
+  // Start at det/m₂ = λ₁λ₂λ₃/(λ₁λ₂ + λ₁λ₃ + λ₂λ₃) <= λ₁: below the root
+  // as Newton needs, and next to it when λ₁ ≪ λ₂ (a surface), where one or
+  // two steps then finish.
+  // m₂ at rounding level means rank one (λ₁ = λ₂ = 0) and det/m₂ would be
+  // noise over noise; a start the rounding put above the root starts over
+  // from 0.
   double lambda = 0;
+  if (det > 0 && m2 > 1e-12 * tr * tr) {
+    const double start = std::min(det / m2, ceiling);
+    if (((start - tr) * start + m2) * start - det < 0) lambda = start;
+  }
   // Quadratic convergence on a simple root; at a double root (λ₁ = λ₂,
   // where the eigenvector is any vector of a plane) it halves the gap per
   // step, so the cap of 64 still reaches double precision. Where q' is
