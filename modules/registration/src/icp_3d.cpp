@@ -236,24 +236,22 @@ struct Walk {
 };
 Walk certified_nearest(const PreparedCloud3D& target, const Eigen::Vector3f& q, std::uint32_t start) {
   const std::size_t k = target.neighbors_per_point();
-  const std::uint32_t* rows = target.neighbor_indices().data();
-  const float* row_sq = target.neighbor_sq_distances().data();
+  const Neighbor<float>* rows = target.neighborhoods().data();
   const Eigen::Vector3f* pts = target.points().data();
   std::uint32_t p = start;
   float dp = tree_sq_distance(q, pts[p]);
   for (int step = 0; step < 8; ++step) {
-    const std::uint32_t* row = rows + static_cast<std::size_t>(p) * k;
-    const float* sq = row_sq + static_cast<std::size_t>(p) * k;
+    const Neighbor<float>* row = rows + static_cast<std::size_t>(p) * k;
     const float reach = 4.0f * dp * (1.0f + 1e-4f);
     std::uint32_t best = p;
     float best_d = dp;
     bool tie = false, covered = false;
     for (std::size_t j = 0; j < k; ++j) {
-      if (sq[j] > reach) {
+      if (row[j].sq_distance > reach) {
         covered = true;  // this one and the rest of the row, and all beyond
         break;
       }
-      const std::uint32_t o = row[j];
+      const std::uint32_t o = row[j].index;
       if (o == p) continue;
       const float d = tree_sq_distance(q, pts[o]);
       if (d < best_d) {

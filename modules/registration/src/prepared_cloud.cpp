@@ -17,13 +17,12 @@ struct Nothing {
 };
 // Returns the distance to the farthest of the neighbours used (0 if fewer
 // than 3 were found); `bound` limits the search (infinite: none).
-// `neighbors` (k entries, or null) receives the neighbours' indices and
-// `sq_distances` (k entries, or null) their squared distances.
+// `neighbors` (k entries, or null) receives the neighbours, nearest first.
 template <typename PointOf>
 float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
                     std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
-                    Eigen::Matrix3d* covariance, float bound, std::uint32_t* neighbors = nullptr,
-                    float* sq_distances = nullptr, Eigen::Vector3d* axis = nullptr);
+                    Eigen::Matrix3d* covariance, float bound, Neighbor<float>* neighbors = nullptr,
+                    Eigen::Vector3d* axis = nullptr);
 }  // namespace
 
 PreparedCloud3D::PreparedCloud3D() = default;
@@ -61,8 +60,7 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
   const std::span<const std::uint32_t> order = tree_.tree_order();
   const std::size_t k = std::min(options.neighbors, points_.size());
   neighbors_per_point_ = k;
-  neighbor_indices_.assign(points_.size() * k, 0);
-  neighbor_sq_distances_.assign(points_.size() * k, 0.0f);
+  neighborhoods_.assign(points_.size() * k, Neighbor<float>{});
   constexpr float kInf = std::numeric_limits<float>::infinity();
   detail::parallel_reduce(order.size(), options.num_threads, Nothing{},
                           [&](std::size_t begin, std::size_t end, Nothing&) {
@@ -77,7 +75,7 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
       reach = local_surface(tree_, point, q, k, options.gicp_epsilon,
                             options.normals ? &normals_[i] : nullptr,
                             options.covariances ? &covariances_[i] : nullptr, bound,
-                            &neighbor_indices_[i * k], &neighbor_sq_distances_[i * k],
+                            &neighborhoods_[i * k],
                             options.covariances ? &gicp_axes_[i] : nullptr);
       prev = q;
     }
@@ -91,22 +89,20 @@ namespace {
 template <typename PointOf>
 float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
                     std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
-                    Eigen::Matrix3d* covariance, float bound, std::uint32_t* neighbors,
-                    float* sq_distances, Eigen::Vector3d* axis) {
+                    Eigen::Matrix3d* covariance, float bound, Neighbor<float>* neighbors,
+                    Eigen::Vector3d* axis) {
   constexpr std::size_t kMaxK = 64;
   Neighbor<float> buf[kMaxK];
   std::vector<Neighbor<float>> big;
   std::span<Neighbor<float>> nn(buf, std::min(k, kMaxK));
-  if (k > kMaxK) {
+  if (neighbors) {
+    nn = std::span<Neighbor<float>>(neighbors, k);
+  } else if (k > kMaxK) {
     big.resize(k);
     nn = big;
   }
   std::size_t m = std::isfinite(bound) ? tree.knn(query, k, nn, bound) : tree.knn(query, k, nn);
   if (m < std::min(k, tree.size())) m = tree.knn(query, k, nn);  // the bound was too tight
-  for (std::size_t j = 0; j < m; ++j) {
-    if (neighbors) neighbors[j] = nn[j].index;
-    if (sq_distances) sq_distances[j] = nn[j].sq_distance;
-  }
   if (m < 3) {
     if (normal) normal->setZero();
     if (covariance) *covariance = Eigen::Matrix3d::Identity();

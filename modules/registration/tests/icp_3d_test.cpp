@@ -152,12 +152,11 @@ TEST(PreparedCloud3D, KeepsTheNeighbourhoods) {
   o.neighbors = 7;
   const PreparedCloud3D cloud(scene, o);
   ASSERT_EQ(cloud.neighbors_per_point(), 7u);
-  ASSERT_EQ(cloud.neighbor_indices().size(), 7 * cloud.size());
+  ASSERT_EQ(cloud.neighborhoods().size(), 7 * cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const auto want = cloud.tree().knn(cloud.points()[i], 7);
     for (std::size_t j = 0; j < 7; ++j) {
-      ASSERT_EQ(cloud.neighbor_indices()[i * 7 + j], want[j].index) << "point " << i;
-      ASSERT_EQ(cloud.neighbor_sq_distances()[i * 7 + j], want[j].sq_distance) << "point " << i;
+      ASSERT_EQ(cloud.neighborhoods()[i * 7 + j], want[j]) << "point " << i << ", rank " << j;
     }
   }
   EXPECT_FALSE(PreparedCloud3D(scene).has_neighborhoods());

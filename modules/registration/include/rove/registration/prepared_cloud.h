@@ -89,16 +89,14 @@ class PreparedCloud3D {
   std::span<const Eigen::Vector3d> gicp_axes() const noexcept { return gicp_axes_; }
   /// The neighbourhoods the normals or covariances were computed from (empty
   /// when neither was): row i, neighbors_per_point() entries from
-  /// neighbor_indices()[i·k], holds the k nearest points of point i (itself
-  /// included), nearest first, as indices into points().
-  std::span<const std::uint32_t> neighbor_indices() const noexcept { return neighbor_indices_; }
-  /// Entries per row of neighbor_indices(): min(options().neighbors, size()).
+  /// neighborhoods()[i·k], holds the k nearest points of point i (itself
+  /// included) as indices into points() with their squared distances (m²,
+  /// float, as the tree computes them), nearest first. No point outside
+  /// row i lies nearer to point i than its last entry.
+  std::span<const Neighbor<float>> neighborhoods() const noexcept { return neighborhoods_; }
+  /// Entries per row of neighborhoods(): min(options().neighbors, size()).
   std::size_t neighbors_per_point() const noexcept { return neighbors_per_point_; }
-  /// The squared distances (m², float, as the tree computes them) matching
-  /// neighbor_indices() entry for entry: ascending along a row, and no
-  /// point outside row i lies nearer to point i than its last entry.
-  std::span<const float> neighbor_sq_distances() const noexcept { return neighbor_sq_distances_; }
-  bool has_neighborhoods() const noexcept { return !neighbor_indices_.empty(); }
+  bool has_neighborhoods() const noexcept { return !neighborhoods_.empty(); }
   /// The options it was prepared with.
   const PrepareOptions& options() const noexcept { return options_; }
 
@@ -107,9 +105,8 @@ class PreparedCloud3D {
   std::vector<Eigen::Vector3f> normals_;
   std::vector<Eigen::Matrix3d> covariances_;
   std::vector<Eigen::Vector3d> gicp_axes_;
-  std::vector<std::uint32_t> neighbor_indices_;
+  std::vector<Neighbor<float>> neighborhoods_;
   std::size_t neighbors_per_point_ = 0;
-  std::vector<float> neighbor_sq_distances_;
   KdTree3f tree_;
   PrepareOptions options_;
 };
