@@ -4,7 +4,6 @@
 #include <limits>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 #include "rove/core/check.h"
@@ -92,10 +91,12 @@ inline Sym3 gicp_information(const Eigen::Vector3d& a, double cs, const Eigen::V
           (s00 * s11 - s01 * s01) * inv};
 }
 
-/// add_quadratic for a symmetric W, spelled out on the upper triangle:
-/// with S = [s]×, the columns of WS are s₂W₁ − s₁W₂, s₀W₂ − s₂W₀,
-/// s₁W₀ − s₀W₁ (Wⱼ the columns of W), and the rows of S·WS are
-/// s₁(WS)₂ − s₂(WS)₁, s₂(WS)₀ − s₀(WS)₂, s₀(WS)₁ − s₁(WS)₀.
+/// Adds w·JᵀR W RᵀJ to the upper triangle of acc.H and w·JᵀR·v to acc.b,
+/// for J = [R, −R[s]×] (see linearize) and a symmetric W:
+/// H += w[W, −WS; SW, −SWS], S = [s]×, spelled out on the upper triangle.
+/// The columns of WS are s₂W₁ − s₁W₂, s₀W₂ − s₂W₀, s₁W₀ − s₀W₁ (Wⱼ the
+/// columns of W), and the rows of S·WS are s₁(WS)₂ − s₂(WS)₁,
+/// s₂(WS)₀ − s₀(WS)₂, s₀(WS)₁ − s₁(WS)₀.
 inline void add_quadratic_sym(Linear6& acc, const Sym3& W, const Eigen::Vector3d& s, double w,
                               const Eigen::Vector3d& v) {
   const double s0 = s.x(), s1 = s.y(), s2 = s.z();
@@ -175,8 +176,8 @@ Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
             Vec6 j;
             j << m, s.cross(m);
             const Vec6 wj = kv.d1 * j;
-            for (int c = 0; c < 6; ++c)
-              for (int r2 = 0; r2 <= c; ++r2) a.H(r2, c) += wj[r2] * j[c];
+            for (int col = 0; col < 6; ++col)
+              for (int row = 0; row <= col; ++row) a.H(row, col) += wj[row] * j[col];
             a.b += r * wj;
           }
           break;
@@ -199,18 +200,6 @@ Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
   // Only the upper triangle was accumulated.
   sum.H.triangularView<Eigen::StrictlyLower>() = sum.H.transpose();
   return sum;
-}
-
-/// The unit normal of a plane-to-plane covariance C = I − (1 − ε)·n·nᵀ
-/// (prepared_cloud.h): n·nᵀ = (I − C)/(1 − ε), read off its largest column
-/// without an eigen-decomposition. Zero for C = I (a point without extent).
-Eigen::Vector3d normal_of_gicp_covariance(const Eigen::Matrix3d& C, double epsilon) {
-  if (!(epsilon < 1)) return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvectors().col(0);
-  const Eigen::Matrix3d nn = (Eigen::Matrix3d::Identity() - C) / (1 - epsilon);
-  Eigen::Index j = 0;
-  const double top = nn.diagonal().maxCoeff(&j);
-  if (!(top > 0)) return Eigen::Vector3d::Zero();
-  return nn.col(j) / std::sqrt(top);
 }
 
 /// Squared distance as KdTree computes it (float, (0 + dx²) + dy² + dz²), so
@@ -468,7 +457,7 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
       if (target.has_normals()) {
         n[k] = target.normals()[ti].cast<double>();
       } else if (target.has_covariances()) {
-        n[k] = normal_of_gicp_covariance(target.covariances()[ti], target.options().gicp_epsilon);
+        n[k] = target.gicp_axes()[ti];  // the local surface's normal (zero: none)
       } else {
         n[k] = fitted[ti].cast<double>();
       }
