@@ -94,8 +94,10 @@ void random_check(std::size_t n, std::size_t leaf, unsigned seed, bool with_nans
     auto nn = tree.nearest(q);
     ASSERT_TRUE(nn.has_value());
     EXPECT_EQ(nn->sq_distance, all[0].sq_distance);
-    // k-nearest for several k
-    for (std::size_t k : {1u, 2u, 5u, 10u, 70u}) expect_same_knn(tree.knn(q, k), all, k);
+    // k-nearest for several k, on both sides of every size of the small
+    // k-nearest sets (8, 12, 16, 24, 32)
+    for (std::size_t k : {1u, 2u, 5u, 8u, 9u, 10u, 12u, 13u, 16u, 17u, 24u, 25u, 32u, 33u, 70u})
+      expect_same_knn(tree.knn(q, k), all, k);
     // radius (inclusive): the set must be exactly the brute-force one
     const Scalar r = static_cast<Scalar>(0.5 + (t % 5));
     auto got = tree.radius(q, r);
@@ -109,7 +111,7 @@ void random_check(std::size_t n, std::size_t leaf, unsigned seed, bool with_nans
     std::sort(want.begin(), want.end());
     EXPECT_EQ(got_idx, want);
     // k-nearest within a distance: the brute-force ones inside r, at most k
-    for (std::size_t k : {1u, 5u, 20u}) {
+    for (std::size_t k : {1u, 5u, 12u, 20u, 33u}) {
       std::vector<Neighbor<Scalar>> inside;
       for (auto& a : all)
         if (a.sq_distance <= r * r) inside.push_back(a);

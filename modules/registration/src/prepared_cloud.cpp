@@ -41,10 +41,7 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
   tree_ = KdTree3f(points_);
   if (points_.empty()) return;
   if (options.normals) normals_.assign(points_.size(), Eigen::Vector3f::Zero());
-  if (options.covariances) {
-    covariances_.assign(points_.size(), Eigen::Matrix3d::Identity());
-    gicp_axes_.assign(points_.size(), Eigen::Vector3d::Zero());
-  }
+  if (options.covariances) gicp_axes_.assign(points_.size(), Eigen::Vector3d::Zero());
   if (!options.normals && !options.covariances) return;
   // The tree indexes every point of points_ (all finite), so a neighbour's
   // index is its position in points_.
@@ -74,12 +71,21 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
           reach == kInf ? kInf : (reach + (q - prev).norm()) * (1 + 1e-5f) + 1e-6f;
       reach = local_surface(tree_, point, q, k, options.gicp_epsilon,
                             options.normals ? &normals_[i] : nullptr,
-                            options.covariances ? &covariances_[i] : nullptr, bound,
+                            nullptr, bound,
                             &neighborhoods_[i * k],
                             options.covariances ? &gicp_axes_[i] : nullptr);
       prev = q;
     }
   });
+}
+
+Eigen::Matrix3d PreparedCloud3D::covariance(std::size_t i) const {
+  ROVE_CHECK_MSG(has_covariances(), "the cloud was prepared without covariances");
+  ROVE_CHECK_LT(i, size());
+  const Eigen::Vector3d& v = gicp_axes_[i];
+  if (v.isZero(0)) return Eigen::Matrix3d::Identity();
+  // The expression local_surface_3d evaluates, to the last bit.
+  return Eigen::Matrix3d::Identity() - (1.0 - options_.gicp_epsilon) * v * v.transpose();
 }
 
 namespace {
@@ -142,15 +148,12 @@ float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vec
   Eigen::Vector3d v;
   const bool flat = !smallest_eigenpair_psd(C, lambda, v);
   if (normal) *normal = flat ? Eigen::Vector3f::Zero() : Eigen::Vector3f(v.cast<float>());
+  if (axis) *axis = flat ? Eigen::Vector3d::Zero() : v;
   if (covariance) {
-    if (flat) {
-      *covariance = Eigen::Matrix3d::Identity();
-      if (axis) axis->setZero();
-    } else {
-      // V·diag(ε, 1, 1)·Vᵀ = I − (1 − ε)·v₁v₁ᵀ.
-      *covariance = Eigen::Matrix3d::Identity() - (1.0 - gicp_epsilon) * v * v.transpose();
-      if (axis) *axis = v;
-    }
+    // V·diag(ε, 1, 1)·Vᵀ = I − (1 − ε)·v₁v₁ᵀ (PreparedCloud3D::covariance
+    // evaluates the same expression).
+    *covariance = flat ? Eigen::Matrix3d::Identity()
+                       : Eigen::Matrix3d(Eigen::Matrix3d::Identity() - (1.0 - gicp_epsilon) * v * v.transpose());
   }
   return reach;
 }

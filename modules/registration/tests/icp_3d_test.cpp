@@ -72,7 +72,7 @@ TEST(Icp3d, ParallelEqualsSerial) {
   const auto src = test::as_seen_from(scene, make_pose(0.1, 0.1, 0, 0, 0, 0.05), 0.01, 3);
   const PreparedCloud3D t1(scene, full(1)), t2(scene, full(2));
   const PreparedCloud3D s1(src, full(1)), s2(src, full(2));
-  for (std::size_t i = 0; i < t1.size(); ++i) ASSERT_EQ(t1.covariances()[i], t2.covariances()[i]);
+  for (std::size_t i = 0; i < t1.size(); ++i) ASSERT_EQ(t1.covariance(i), t2.covariance(i));
   Icp3dOptions o;
   const auto a = icp_3d(t1, s1, Eigen::Isometry3d::Identity(), o);
   o.num_threads = 2;
@@ -98,7 +98,7 @@ TEST(PreparedCloud3D, BoundedSearchesGiveTheUnboundedSurfaces) {
       Eigen::Matrix3d c;
       local_surface_3d(cloud.tree(), cloud.points()[i], k, o.gicp_epsilon, &n, &c);
       ASSERT_EQ(cloud.normals()[i], n) << "point " << i << ", k " << k;
-      ASSERT_EQ(cloud.covariances()[i], c) << "point " << i << ", k " << k;
+      ASSERT_EQ(cloud.covariance(i), c) << "point " << i << ", k " << k;
     }
   }
 }

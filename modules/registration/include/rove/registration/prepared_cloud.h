@@ -80,12 +80,17 @@ class PreparedCloud3D {
   /// no extent gets (0, 0, 0).
   std::span<const Eigen::Vector3f> normals() const noexcept { return normals_; }
   bool has_normals() const noexcept { return !normals_.empty(); }
-  /// GICP covariances (empty unless computed), m².
-  std::span<const Eigen::Matrix3d> covariances() const noexcept { return covariances_; }
-  bool has_covariances() const noexcept { return !covariances_.empty(); }
+  /// True when the GICP covariances were computed.
+  bool has_covariances() const noexcept { return !gicp_axes_.empty(); }
+  /// The GICP covariance of point i, m²: I − (1 − ε)·v₁v₁ᵀ with v₁ =
+  /// gicp_axes()[i] and ε = options().gicp_epsilon, or I where the
+  /// neighbourhood has no extent. Computed from the axis on each call (the
+  /// cloud stores 3 numbers per point, not 9).
+  /// Preconditions: has_covariances(), i < size().
+  Eigen::Matrix3d covariance(std::size_t i) const;
   /// The axis of each GICP covariance (empty unless computed): the unit
-  /// vector v₁ with covariances()[i] = I − (1 − ε)·v₁v₁ᵀ, or zero where the
-  /// covariance is I (a neighbourhood without extent).
+  /// normal v₁ of the neighbourhood, or zero where the covariance is I (a
+  /// neighbourhood without extent).
   std::span<const Eigen::Vector3d> gicp_axes() const noexcept { return gicp_axes_; }
   /// The neighbourhoods the normals or covariances were computed from (empty
   /// when neither was): row i, neighbors_per_point() entries from
@@ -103,7 +108,6 @@ class PreparedCloud3D {
  private:
   std::vector<Eigen::Vector3f> points_;
   std::vector<Eigen::Vector3f> normals_;
-  std::vector<Eigen::Matrix3d> covariances_;
   std::vector<Eigen::Vector3d> gicp_axes_;
   std::vector<Neighbor<float>> neighborhoods_;
   std::size_t neighbors_per_point_ = 0;
