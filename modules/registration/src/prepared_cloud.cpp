@@ -166,8 +166,9 @@ bool smallest_eigenpair_psd(const Eigen::Matrix3d& C, double& eigenvalue, Eigen:
   // entry is on its diagonal).
   const double scale = C.cwiseAbs().maxCoeff();
   if (!(scale > 0)) return false;
-  const double xx = C(0, 0) / scale, xy = C(0, 1) / scale, xz = C(0, 2) / scale;
-  const double yy = C(1, 1) / scale, yz = C(1, 2) / scale, zz = C(2, 2) / scale;
+  const double inv = 1 / scale;
+  const double xx = C(0, 0) * inv, xy = C(0, 1) * inv, xz = C(0, 2) * inv;
+  const double yy = C(1, 1) * inv, yz = C(1, 2) * inv, zz = C(2, 2) * inv;
   const double tr = xx + yy + zz;
   const double m2 = xx * yy + xx * zz + yy * zz - xy * xy - xz * xz - yz * yz;
   const double det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
@@ -189,6 +190,10 @@ bool smallest_eigenpair_psd(const Eigen::Matrix3d& C, double& eigenvalue, Eigen:
   // step, so the cap of 64 still reaches double precision. Where q' is
   // down to rounding (1e-12 of tr², its scale), λ is within ~1e-12 of a
   // multiple root and a Newton step would divide noise by noise: stop.
+  // On a simple root the error after a step s is O(s²/gap), so once a step
+  // is below 1e-10·tr the next would change λ by ~1e-20 of tr²/gap: stop
+  // there (the eigenvalue returned is the Rayleigh quotient below anyway).
+  // That saved one step in four on scan neighbourhoods.
   for (int it = 0; it < 64; ++it) {
     const double q = ((lambda - tr) * lambda + m2) * lambda - det;
     const double dq = (3 * lambda - 2 * tr) * lambda + m2;
@@ -196,7 +201,7 @@ bool smallest_eigenpair_psd(const Eigen::Matrix3d& C, double& eigenvalue, Eigen:
     const double step = -q / dq;
     const double next = std::min(lambda + step, ceiling);
     if (!(next > lambda)) break;
-    const bool small = !(next - lambda > 1e-16 * tr);
+    const bool small = !(next - lambda > 1e-10 * tr);
     lambda = next;
     if (small) break;
   }
