@@ -175,6 +175,7 @@ void BM_rove_gicp(benchmark::State& st) {
     po.neighbors = kNeighbors;
     po.num_threads = static_cast<int>(st.range(0));
     const auto t = rove::PreparedCloud3D::from_cloud(d.gicp_target, po);
+    po.neighborhoods = false;  // a source's are never walked
     const auto s = rove::PreparedCloud3D::from_cloud(d.gicp_source, po);
     r = rove::icp_3d(t, s, Eigen::Isometry3d::Identity(),
                      rove_icp_options(rove::Icp3dMethod::Gicp, po.num_threads));
@@ -193,6 +194,7 @@ void BM_rove_gicp_k10(benchmark::State& st) {
     po.neighbors = 10;
     po.num_threads = static_cast<int>(st.range(0));
     const auto t = rove::PreparedCloud3D::from_cloud(d.gicp_target, po);
+    po.neighborhoods = false;  // a source's are never walked
     const auto s = rove::PreparedCloud3D::from_cloud(d.gicp_source, po);
     r = rove::icp_3d(t, s, Eigen::Isometry3d::Identity(),
                      rove_icp_options(rove::Icp3dMethod::Gicp, po.num_threads));

@@ -54,6 +54,7 @@ Icp3dMultiResolutionResult icp_3d_multi_resolution(std::span<const Eigen::Vector
   target_prep.covariances = o.icp.method == Icp3dMethod::Gicp;
   PrepareOptions source_prep = target_prep;
   source_prep.normals = false;
+  source_prep.neighborhoods = false;  // only a target's are walked
   for (std::size_t level = 0; level < o.voxel_sizes.size(); ++level) {
     const double voxel = o.voxel_sizes[level];
     const PreparedCloud3D t(level_points(target, voxel), target_prep);

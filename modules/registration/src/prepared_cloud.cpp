@@ -56,8 +56,10 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
   // unbounded first search, so the results do not depend on the threads.
   const std::span<const std::uint32_t> order = tree_.tree_order();
   const std::size_t k = std::min(options.neighbors, points_.size());
-  neighbors_per_point_ = k;
-  neighborhoods_.assign(points_.size() * k, Neighbor<float>{});
+  if (options.neighborhoods) {
+    neighbors_per_point_ = k;
+    neighborhoods_.assign(points_.size() * k, Neighbor<float>{});
+  }
   constexpr float kInf = std::numeric_limits<float>::infinity();
   detail::parallel_reduce(order.size(), options.num_threads, Nothing{},
                           [&](std::size_t begin, std::size_t end, Nothing&) {
@@ -72,7 +74,7 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
       reach = local_surface(tree_, point, q, k, options.gicp_epsilon,
                             options.normals ? &normals_[i] : nullptr,
                             nullptr, bound,
-                            &neighborhoods_[i * k],
+                            options.neighborhoods ? &neighborhoods_[i * k] : nullptr,
                             options.covariances ? &gicp_axes_[i] : nullptr);
       prev = q;
     }

@@ -160,6 +160,14 @@ TEST(PreparedCloud3D, KeepsTheNeighbourhoods) {
     }
   }
   EXPECT_FALSE(PreparedCloud3D(scene).has_neighborhoods());
+  // Not kept on request, with the same covariances.
+  PrepareOptions without = o;
+  without.neighborhoods = false;
+  const PreparedCloud3D bare(scene, without);
+  EXPECT_FALSE(bare.has_neighborhoods());
+  EXPECT_EQ(bare.neighbors_per_point(), 0u);
+  ASSERT_EQ(bare.size(), cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) ASSERT_EQ(bare.covariance(i), cloud.covariance(i)) << i;
   // Fewer points than neighbours: every point is in every row.
   const std::vector<Eigen::Vector3f> three{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   const PreparedCloud3D small(three, o);
