@@ -114,7 +114,7 @@ struct KnnSet {
 /// blends. KnnSet's insertion sort mispredicted the exit of its loop about
 /// once per admitted point; this set took 12-15 % less time for k = 10 and
 /// 7 % less for k = 20 over every point of a 0.25 m voxel cloud
-/// (docs/point-maps.md).
+/// (bench/RESULTS.md, bench_kdtree_vs_nanoflann).
 template <std::size_t N>
 struct SmallKnnSet {
   std::size_t k;
