@@ -11,7 +11,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
@@ -50,49 +49,112 @@ NdtGrid<Dim>::NdtGrid(std::span<const Eigen::Matrix<float, Dim, 1>> points,
                  options.min_covariance_eigenvalue_ratio);
   using VecD = Eigen::Matrix<double, Dim, 1>;
   using MatD = Eigen::Matrix<double, Dim, Dim>;
+  constexpr int kSq = Dim * (Dim + 1) / 2;  // upper triangle of Σ x·xᵀ
+  using SqD = Eigen::Matrix<double, kSq, 1>;
   struct Acc {
+    std::uint64_t key = 0;
     VecD sum = VecD::Zero();
-    MatD sum_sq = MatD::Zero();
-    int n = 0;
+    SqD sum_sq = SqD::Zero();
+    std::int64_t n = 0;
   };
   // Cell index as PCL: floor(p · (1/resolution)) in float.
   const float inv = static_cast<float>(1.0 / options.resolution);
-  std::unordered_map<std::uint64_t, Acc> acc;
-  acc.reserve(points.size() / 8 + 16);
   constexpr std::int64_t kRange = std::int64_t{1} << 20;  // ±2^20 cells per axis
+  // The cells, and an open-addressing table of their positions + 1 (0:
+  // free), keyed by cell index, capacity a power of two at most half full.
+  std::vector<Acc> accs;
+  std::vector<std::uint32_t> slots(64, 0);
+  auto slot_of = [&slots](std::uint64_t key) {
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 32) & (slots.size() - 1);
+  };
+  auto cell_of = [&](std::uint64_t key) -> Acc& {
+    for (std::size_t s = slot_of(key);; s = (s + 1) & (slots.size() - 1)) {
+      if (slots[s] == 0) {
+        ROVE_CHECK_MSG(accs.size() < std::numeric_limits<std::uint32_t>::max() - 1,
+                       "more than 2^32 - 2 NDT cells");
+        accs.push_back(Acc{key});
+        slots[s] = static_cast<std::uint32_t>(accs.size());
+        if (2 * accs.size() > slots.size()) {
+          slots.assign(2 * slots.size(), 0);
+          for (std::size_t c = 0; c < accs.size(); ++c) {
+            std::size_t t = slot_of(accs[c].key);
+            while (slots[t] != 0) t = (t + 1) & (slots.size() - 1);
+            slots[t] = static_cast<std::uint32_t>(c + 1);
+          }
+        }
+        return accs.back();
+      }
+      if (accs[slots[s] - 1].key == key) return accs[slots[s] - 1];
+    }
+  };
+  // A scan's points come in runs within one cell: a run is summed in
+  // registers and added to its cell when the cell changes.
+  // Plain scalars (not Eigen vectors, which the compiler keeps in memory
+  // with overlapping loads and stores).
+  std::uint64_t run_key = 0;
+  double run_sum[Dim] = {};
+  double run_sq[kSq] = {};
+  std::int64_t run_n = 0;
+  auto end_run = [&] {
+    if (run_n == 0) return;
+    Acc& a = cell_of(run_key);
+    for (int d = 0; d < Dim; ++d) a.sum[d] += run_sum[d];
+    for (int k = 0; k < kSq; ++k) a.sum_sq[k] += run_sq[k];
+    a.n += run_n;
+  };
   for (const auto& p : points) {
     if (!p.allFinite()) continue;
     std::uint64_t key = 0;
-    bool in_range = true;
     for (int d = 0; d < Dim; ++d) {
       const float f = std::floor(p[d] * inv);
-      if (!(f > -static_cast<float>(kRange) && f < static_cast<float>(kRange))) in_range = false;
+      ROVE_CHECK_MSG(f > -static_cast<float>(kRange) && f < static_cast<float>(kRange),
+                     "a point at ({}, {}) is more than 2^20 cells from the origin at resolution {}",
+                     p[0], p[1], options.resolution);
       const auto i = static_cast<std::int64_t>(f) + kRange;
       key = (key << 21) | static_cast<std::uint64_t>(i & ((std::int64_t{1} << 21) - 1));
     }
-    ROVE_CHECK_MSG(in_range,
-                   "a point at ({}, {}) is more than 2^20 cells from the origin at resolution {}",
-                   p[0], p[1], options.resolution);
-    Acc& a = acc[key];
-    const VecD x = p.template cast<double>();
-    a.sum += x;
-    a.sum_sq += x * x.transpose();
-    ++a.n;
+    if (key != run_key) {
+      end_run();
+      run_key = key;
+      for (double& v : run_sum) v = 0;
+      for (double& v : run_sq) v = 0;
+      run_n = 0;
+    }
+    const double x = p[0], y = p[1];
+    run_sum[0] += x;
+    run_sum[1] += y;
+    run_sq[0] += x * x;
+    run_sq[1] += x * y;
+    if constexpr (Dim == 2) {
+      run_sq[2] += y * y;
+    } else {
+      const double z = p[2];
+      run_sum[2] += z;
+      run_sq[2] += x * z;
+      run_sq[3] += y * y;
+      run_sq[4] += y * z;
+      run_sq[5] += z * z;
+    }
+    ++run_n;
   }
+  end_run();
   // Deterministic cell order: by key.
   std::vector<std::pair<std::uint64_t, const Acc*>> order;
-  order.reserve(acc.size());
-  for (const auto& [k, a] : acc) order.emplace_back(k, &a);
+  order.reserve(accs.size());
+  for (const Acc& a : accs) order.emplace_back(a.key, &a);
   std::sort(order.begin(), order.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<VecD> means;
   for (const auto& [key, a] : order) {
     if (a->n < options.min_points_per_voxel) continue;
     NdtCell<Dim> c;
-    c.points = a->n;
-    c.mean = a->sum / a->n;
+    c.points = static_cast<int>(std::min<std::int64_t>(a->n, std::numeric_limits<int>::max()));
+    c.mean = a->sum / static_cast<double>(a->n);
     // Sample covariance (n − 1), as PCL's VoxelGridCovariance.
-    MatD cov = (a->sum_sq - a->sum * c.mean.transpose()) / (a->n - 1.0);
+    MatD sum_sq;
+    for (int r = 0, k = 0; r < Dim; ++r)
+      for (int q = r; q < Dim; ++q, ++k) sum_sq(r, q) = sum_sq(q, r) = a->sum_sq[k];
+    MatD cov = (sum_sq - a->sum * c.mean.transpose()) / (static_cast<double>(a->n) - 1.0);
     Eigen::SelfAdjointEigenSolver<MatD> eig(cov);
     VecD ev = eig.eigenvalues();
     if (!(ev(Dim - 1) > 0) || ev(0) < -Eigen::NumTraits<double>::dummy_precision()) continue;
@@ -126,24 +188,93 @@ void NdtGrid<Dim>::build_lookup() {
     lo = lo.cwiseMin(own[c]);
     hi = hi.cwiseMax(own[c]);
   }
-  const Key size = hi - lo + Key::Ones();
+  // One cell of margin on every side: a query up to a cell outside the
+  // means' box still reads one list.
+  const Key size = hi - lo + Key::Constant(3);
   double volume = 1;
   for (int d = 0; d < Dim; ++d) volume *= static_cast<double>(size[d]);
   const double cap = std::max(double{1 << 22}, 64.0 * static_cast<double>(cells_.size()));
-  if (volume > cap) return;  // sparse and wide: cells_near searches the tree
-  lookup_min_ = lo;
+  constexpr std::size_t kSpan = Dim == 3 ? 27 : 9;  // lists a cell is in
+  // Sparse and wide, or more list entries than 32 bits count: cells_near
+  // searches the tree.
+  if (volume > cap || cells_.size() > std::numeric_limits<std::uint32_t>::max() / kSpan) return;
+  lookup_min_ = lo - Key::Ones();
   lookup_size_ = size;
   auto linear = [&](const Key& k) {
     std::size_t l = 0;
-    for (int d = Dim - 1; d >= 0; --d) l = l * static_cast<std::size_t>(size[d]) + static_cast<std::size_t>(k[d] - lo[d]);
+    for (int d = Dim - 1; d >= 0; --d)
+      l = l * static_cast<std::size_t>(size[d]) + static_cast<std::size_t>(k[d] - lookup_min_[d]);
     return l;
   };
+  // Linear offsets of the 3^Dim lookup cells around one, in row-major
+  // order (the order cells_near reports in).
+  std::array<std::int64_t, kSpan> offsets{};
+  {
+    std::size_t o = 0;
+    if constexpr (Dim == 3) {
+      for (std::int64_t a = -1; a <= 1; ++a)
+        for (std::int64_t b = -1; b <= 1; ++b)
+          for (std::int64_t c = -1; c <= 1; ++c) offsets[o++] = (a * size[1] + b) * size[0] + c;
+    } else {
+      for (std::int64_t b = -1; b <= 1; ++b)
+        for (std::int64_t c = -1; c <= 1; ++c) offsets[o++] = b * size[0] + c;
+    }
+  }
+  // A list holds only the cells whose mean is within r of its lookup
+  // cell's box: no other can be within r of a query in it. The box is
+  // widened by a relative 1e-9 so that a query whose floor(x / r) rounds
+  // across a face still finds every cell.
+  const double r = options_.resolution;
+  auto reaches = [&](std::uint32_t c, std::size_t o) {
+    double d2 = 0;
+    for (int d = 0; d < Dim; ++d) {
+      const std::int64_t step = Dim == 3 ? (d == 0 ? static_cast<std::int64_t>(o % 3) - 1
+                                            : d == 1 ? static_cast<std::int64_t>(o / 3 % 3) - 1
+                                                     : static_cast<std::int64_t>(o / 9) - 1)
+                                         : (d == 0 ? static_cast<std::int64_t>(o % 3) - 1
+                                                   : static_cast<std::int64_t>(o / 3) - 1);
+      const double lo_face = static_cast<double>(own[c][d] + step) * r;
+      const double hi_face = lo_face + r;
+      const double slack = 1e-9 * (std::abs(lo_face) + r);
+      const double m = cells_[c].mean[d];
+      const double gap = std::max({lo_face - slack - m, m - hi_face - slack, 0.0});
+      d2 += gap * gap;
+    }
+    return d2 <= r * r;
+  };
+  // Cells by own lookup cell, then index: filling the lists in this order
+  // leaves every list in row-major order of the cells it holds.
+  std::vector<std::pair<std::size_t, std::uint32_t>> order(cells_.size());
+  for (std::size_t c = 0; c < cells_.size(); ++c) order[c] = {linear(own[c]), static_cast<std::uint32_t>(c)};
+  std::sort(order.begin(), order.end());
   lookup_start_.assign(static_cast<std::size_t>(volume) + 1, 0);
-  for (const auto& k : own) ++lookup_start_[linear(k) + 1];
+  // Own cells are at least one cell inside the margin, so every neighbour
+  // is in the index.
+  for (const auto& [l, c] : order)
+    for (std::size_t o = 0; o < kSpan; ++o)
+      if (reaches(c, o)) ++lookup_start_[static_cast<std::size_t>(static_cast<std::int64_t>(l) + offsets[o]) + 1];
   for (std::size_t l = 1; l < lookup_start_.size(); ++l) lookup_start_[l] += lookup_start_[l - 1];
-  lookup_cells_.resize(cells_.size());
+  lookup_cells_.resize(lookup_start_.back());
   std::vector<std::uint32_t> fill(lookup_start_.begin(), lookup_start_.end() - 1);
-  for (std::size_t c = 0; c < cells_.size(); ++c) lookup_cells_[fill[linear(own[c])]++] = static_cast<std::uint32_t>(c);
+  for (const auto& [l, c] : order)
+    for (std::size_t o = 0; o < kSpan; ++o)
+      if (reaches(c, o)) lookup_cells_[fill[static_cast<std::size_t>(static_cast<std::int64_t>(l) + offsets[o])]++] = c;
+  lookup_means_.resize(cells_.size());
+  for (std::size_t c = 0; c < cells_.size(); ++c) lookup_means_[c] = cells_[c].mean;
+}
+
+template <int Dim>
+std::int64_t NdtGrid<Dim>::lookup_index(const Point& x) const {
+  const double inv = 1.0 / options_.resolution;
+  std::int64_t l = 0;
+  for (int d = Dim - 1; d >= 0; --d) {
+    const double f = std::floor(x[d] * inv);  // NaN fails both comparisons
+    if (!(f >= static_cast<double>(lookup_min_[d]) &&
+          f < static_cast<double>(lookup_min_[d] + lookup_size_[d])))
+      return -1;
+    l = l * lookup_size_[d] + (static_cast<std::int64_t>(f) - lookup_min_[d]);
+  }
+  return l;
 }
 
 template <int Dim>
@@ -157,47 +288,55 @@ std::size_t NdtGrid<Dim>::cells_near(const Point& x, std::span<Neighbor<double>,
     std::copy_n(hits.begin(), n, out.begin());
     return n;
   }
-  if (!x.allFinite()) return 0;
-  const double inv = 1.0 / r, r2 = r * r;
-  // A mean within r of x lies in x's cell or one of its neighbours (cells
-  // have side r), so the 3^Dim cells around x hold the whole answer.
-  std::int64_t k0[Dim];
-  for (int d = 0; d < Dim; ++d) {
-    const double f = std::floor(x[d] * inv);
-    // Outside the box by more than a cell: nothing can be near.
-    if (!(f >= static_cast<double>(lookup_min_[d] - 1) &&
-          f <= static_cast<double>(lookup_min_[d] + lookup_size_[d])))
-      return 0;
-    k0[d] = static_cast<std::int64_t>(f) - lookup_min_[d];
-  }
+  // A mean within r of x lies in x's lookup cell or one of its neighbours
+  // (cells have side r): x's list holds the whole answer.
+  const std::int64_t l = lookup_index(x);
+  if (l < 0) return 0;
+  const double r2 = r * r;
   std::size_t n = 0;
-  auto visit = [&](std::size_t l) {
-    for (std::uint32_t j = lookup_start_[l]; j < lookup_start_[l + 1]; ++j) {
-      const std::uint32_t c = lookup_cells_[j];
-      const Point& m = cells_[c].mean;
-      double d2 = 0;
-      for (int d = 0; d < Dim; ++d) {
-        const double diff = x[d] - m[d];
-        d2 += diff * diff;
-      }
-      if (d2 <= r2 && n < kMaxNear) out[n++] = Neighbor<double>{c, d2};
+  const std::uint32_t* c = lookup_cells_.data() + lookup_start_[static_cast<std::size_t>(l)];
+  const std::uint32_t* const end = lookup_cells_.data() + lookup_start_[static_cast<std::size_t>(l) + 1];
+  if (static_cast<std::size_t>(end - c) <= kMaxNear) {
+    // Every candidate fits: write each, keep those within r (no branch to
+    // mispredict).
+    for (; c != end; ++c) {
+      const double d2 = (x - lookup_means_[*c]).squaredNorm();
+      out[n] = Neighbor<double>{*c, d2};
+      n += d2 <= r2 ? 1 : 0;
     }
-  };
-  if constexpr (Dim == 3) {
-    for (std::int64_t a = std::max<std::int64_t>(k0[2] - 1, 0); a <= std::min(k0[2] + 1, lookup_size_[2] - 1); ++a)
-      for (std::int64_t b = std::max<std::int64_t>(k0[1] - 1, 0); b <= std::min(k0[1] + 1, lookup_size_[1] - 1); ++b) {
-        const std::size_t row = static_cast<std::size_t>((a * lookup_size_[1] + b) * lookup_size_[0]);
-        for (std::int64_t c = std::max<std::int64_t>(k0[0] - 1, 0); c <= std::min(k0[0] + 1, lookup_size_[0] - 1); ++c)
-          visit(row + static_cast<std::size_t>(c));
-      }
-  } else {
-    for (std::int64_t b = std::max<std::int64_t>(k0[1] - 1, 0); b <= std::min(k0[1] + 1, lookup_size_[1] - 1); ++b) {
-      const std::size_t row = static_cast<std::size_t>(b * lookup_size_[0]);
-      for (std::int64_t c = std::max<std::int64_t>(k0[0] - 1, 0); c <= std::min(k0[0] + 1, lookup_size_[0] - 1); ++c)
-        visit(row + static_cast<std::size_t>(c));
-    }
+    return n;
+  }
+  for (; c != end; ++c) {
+    const double d2 = (x - lookup_means_[*c]).squaredNorm();
+    if (d2 <= r2 && n < kMaxNear) out[n++] = Neighbor<double>{*c, d2};
   }
   return n;
+}
+
+template <int Dim>
+std::optional<Neighbor<double>> NdtGrid<Dim>::nearest_cell(const Point& x) const {
+  const double r = options_.resolution;
+  if (lookup_start_.empty()) {
+    if (cells_.empty() || !x.allFinite()) return std::nullopt;
+    const auto nn = tree_.nearest(x, r);
+    if (!nn) return std::nullopt;
+    return Neighbor<double>{nn->index, nn->sq_distance};
+  }
+  const std::int64_t l = lookup_index(x);
+  if (l < 0) return std::nullopt;
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::uint32_t best = kNone;  // cells_.size() < kNone (build_lookup)
+  double best_d2 = r * r;
+  for (std::uint32_t j = lookup_start_[static_cast<std::size_t>(l)];
+       j < lookup_start_[static_cast<std::size_t>(l) + 1]; ++j) {
+    const std::uint32_t c = lookup_cells_[j];
+    const double d2 = (x - lookup_means_[c]).squaredNorm();
+    const bool better = d2 < best_d2 || (d2 == best_d2 && c < best);
+    best = better ? c : best;
+    best_d2 = better ? d2 : best_d2;
+  }
+  if (best == kNone) return std::nullopt;
+  return Neighbor<double>{best, best_d2};
 }
 
 template class NdtGrid<2>;
@@ -323,54 +462,67 @@ struct Gauss {
 
 /// Score, gradient and (optionally) Hessian of the NDT score at `p`
 /// (Magnusson Algorithm 2, lines 17-21; eq. 6.10, 6.12, 6.13).
+///
+/// Every cell near one source point shares that point's Jacobian J = [I | J_r]
+/// (J_r's columns ∂R/∂angle_k · x), so the sums over the point's cells are
+/// taken before J is applied: with v = C·x' and f = d₁d₂·exp(−d₂/2·x'ᵀv),
+///   g_i = Jᵀ·w,  w = Σ f·v,
+///   H_i = Jᵀ·S·J + Σ_kl w·(∂²R/∂k∂l · x),  S = Σ f·(C − d₂·v·vᵀ),
+/// which is eq. 6.12-6.13 summed in another order: 3 + 6 numbers per cell
+/// instead of a 6 × 6 product.
 template <class M>
 Eval<M> evaluate(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float, M::D, 1>> source,
                  const typename M::Params& p, bool hessian, const Gauss& gc,
                  detail::ThreadTeam& team) {
+  using Vec = typename M::Vec;
+  using Mat = typename M::Mat;
+  constexpr int D = M::D, A = M::A;
   const M model(p);
   return detail::parallel_reduce(source.size(), team, Eval<M>{},
                                  [&](std::size_t b, std::size_t e, Eval<M>& a) {
-    std::array<Neighbor<double>, NdtGrid<M::D>::kMaxNear> near;
-    Eigen::Matrix<double, M::D, M::P> J = Eigen::Matrix<double, M::D, M::P>::Zero();
-    J.template leftCols<M::D>().setIdentity();
-    typename M::Vec Hp[M::A][M::A];
-    for (auto& row : Hp)
-      for (auto& v : row) v.setZero();
+    std::array<Neighbor<double>, NdtGrid<D>::kMaxNear> near;
+    Eigen::Matrix<double, D, A> Jr;
     for (std::size_t i = b; i < e; ++i) {
       if (!source[i].allFinite()) continue;
-      const typename M::Vec x = source[i].template cast<double>();
-      const typename M::Vec xt = model.R * x + model.t;
+      const Vec x = source[i].template cast<double>();
+      const Vec xt = model.R * x + model.t;
       const std::size_t n_near = grid.cells_near(xt, near);
       if (n_near == 0) continue;
       ++a.with_cell;
       double best = std::numeric_limits<double>::infinity();
-      for (int k = 0; k < M::A; ++k) J.col(M::D + k) = model.dR[k] * x;
-      if (hessian)
-        for (int k = 0; k < M::A; ++k)
-          for (int l = 0; l < M::A; ++l) Hp[k][l] = model.d2R[k][l] * x;
+      Vec w = Vec::Zero();
+      Mat S = Mat::Zero();
+      bool any = false;
       for (std::size_t j = 0; j < n_near; ++j) {
         const Neighbor<double>& nb = near[j];
         best = std::min(best, nb.sq_distance);
         const auto& cell = grid.cells()[nb.index];
-        const typename M::Vec xp = xt - cell.mean;
-        const typename M::Vec Cxp = cell.inverse_covariance * xp;
-        const double ex = std::exp(-gc.d2 * xp.dot(Cxp) / 2);
+        const Vec xp = xt - cell.mean;
+        const Vec v = cell.inverse_covariance * xp;
+        const double ex = std::exp(-gc.d2 * xp.dot(v) / 2);
         const double d2ex = gc.d2 * ex;
         if (d2ex > 1 || d2ex < 0 || std::isnan(d2ex)) continue;  // PCL's guard
         a.score += -gc.d1 * ex;
         const double f = gc.d1 * d2ex;
-        const Eigen::Matrix<double, 1, M::P> xCJ = Cxp.transpose() * J;
-        a.g += f * xCJ.transpose();
-        if (hessian) {
-          const Eigen::Matrix<double, M::P, M::P> JCJ =
-              J.transpose() * cell.inverse_covariance * J;
-          Eigen::Matrix<double, M::P, M::P> h = -gc.d2 * xCJ.transpose() * xCJ + JCJ;
-          for (int k = 0; k < M::A; ++k)
-            for (int l = 0; l < M::A; ++l) h(M::D + k, M::D + l) += Cxp.dot(Hp[k][l]);
-          a.H += f * h;
-        }
+        w += f * v;
+        if (hessian) S.noalias() += f * cell.inverse_covariance - (f * gc.d2) * v * v.transpose();
+        any = true;
       }
       a.nearest_sq += best;
+      if (!any) continue;
+      for (int k = 0; k < A; ++k) Jr.col(k) = model.dR[k] * x;
+      a.g.template head<D>() += w;
+      a.g.template tail<A>() += Jr.transpose() * w;
+      if (hessian) {
+        const Eigen::Matrix<double, D, A> SJr = S * Jr;
+        a.H.template topLeftCorner<D, D>() += S;
+        a.H.template topRightCorner<D, A>() += SJr;
+        a.H.template bottomLeftCorner<A, D>() += SJr.transpose();
+        Eigen::Matrix<double, A, A> rr = Jr.transpose() * SJr;
+        for (int k = 0; k < A; ++k)
+          for (int l = 0; l < A; ++l) rr(k, l) += w.dot(model.d2R[k][l] * x);
+        a.H.template bottomRightCorner<A, A>() += rr;
+      }
     }
   });
 }
@@ -554,7 +706,7 @@ double conditioning_of(const NdtGrid<D>& grid, std::span<const Pt> transformed) 
   std::vector<Eigen::Vector3d> q, n;
   for (const auto& x : transformed) {
     if (!x.allFinite()) continue;
-    const auto nn = grid.tree().nearest(x, grid.options().resolution);
+    const auto nn = grid.nearest_cell(x);
     if (!nn) continue;
     Eigen::Vector3d p3 = Eigen::Vector3d::Zero(), n3 = Eigen::Vector3d::Zero();
     p3.head<D>() = x;

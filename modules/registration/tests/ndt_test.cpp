@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <optional>
 #include <random>
 
 #include <Eigen/Eigenvalues>
@@ -146,6 +148,21 @@ TEST(Ndt2d, CorridorIsDegenerate) {
   EXPECT_EQ(r.termination, RegistrationTermination::Degenerate) << r.message;
 }
 
+// nearest_cell's answer is the nearest of the radius set (lowest index
+// among equals), or nothing when the set is empty.
+void expect_nearest_of(const std::optional<Neighbor<double>>& nn,
+                       const std::vector<Neighbor<double>>& radius_set) {
+  if (radius_set.empty()) {
+    EXPECT_FALSE(nn);
+    return;
+  }
+  const auto best = *std::min_element(radius_set.begin(), radius_set.end(), [](const auto& a, const auto& b) {
+    return a.sq_distance < b.sq_distance || (a.sq_distance == b.sq_distance && a.index < b.index);
+  });
+  ASSERT_TRUE(nn);
+  EXPECT_EQ(*nn, best);
+}
+
 TEST(Ndt3d, CellsNearEqualsTheTreeRadiusSearch) {
   // Oracle: the dense cell index gives the KD-tree's radius set, with the
   // same squared distances, for queries inside, at the border of and far
@@ -173,7 +190,26 @@ TEST(Ndt3d, CellsNearEqualsTheTreeRadiusSearch) {
       std::sort(got.begin(), got.end(), by_index);
       std::sort(expected.begin(), expected.end(), by_index);
       ASSERT_EQ(got, expected) << "query " << x.transpose() << " spread " << spread;
+      expect_nearest_of(grid.nearest_cell(x), expected);
     }
+    // On and next to the faces and corners of the index's cells, where a
+    // query's floor(x / r) decides which candidate list it reads.
+    for (int i = -9; i <= 9; ++i)
+      for (int j = -9; j <= 9; ++j)
+        for (int k = -3; k <= 7; ++k)
+          for (const double toward : {-1.0, 0.0, 1.0}) {
+            Eigen::Vector3d x(i * go.resolution, j * go.resolution, k * go.resolution);
+            for (int d = 0; d < 3; ++d)
+              if (toward != 0) x[d] = std::nextafter(x[d], toward * 1e300);
+            const std::size_t n = grid.cells_near(x, near);
+            auto expected = grid.tree().radius(x, go.resolution);
+            std::vector<Neighbor<double>> got(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(n));
+            auto by_index = [](const Neighbor<double>& a, const Neighbor<double>& b) { return a.index < b.index; };
+            std::sort(got.begin(), got.end(), by_index);
+            std::sort(expected.begin(), expected.end(), by_index);
+            ASSERT_EQ(got, expected) << "query " << x.transpose() << " spread " << spread;
+            expect_nearest_of(grid.nearest_cell(x), expected);
+          }
   }
 }
 
@@ -195,7 +231,10 @@ TEST(Ndt2d, CellsNearEqualsTheTreeRadiusSearch) {
     std::sort(got.begin(), got.end(), by_index);
     std::sort(expected.begin(), expected.end(), by_index);
     ASSERT_EQ(got, expected) << "query " << x.transpose();
+    expect_nearest_of(grid.nearest_cell(x), expected);
   }
+  EXPECT_FALSE(grid.nearest_cell(Eigen::Vector2d(std::nan(""), 0)));
+  EXPECT_FALSE(grid.nearest_cell(Eigen::Vector2d(1e300, 0)));
 }
 
 }  // namespace

@@ -32,6 +32,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -100,6 +101,10 @@ class NdtGrid {
   /// index when the grid's extent allows it (≤ 2^22 cells, or 64 per
   /// Gaussian cell), else searches the KD-tree.
   std::size_t cells_near(const Point& x, std::span<Neighbor<double>, kMaxNear> out) const;
+  /// The cell whose mean is nearest to x within `resolution` (inclusive;
+  /// among equally near means, the lowest index); nullopt when there is none
+  /// or x is not finite. Same index as cells_near.
+  std::optional<Neighbor<double>> nearest_cell(const Point& x) const;
   /// The options it was built with.
   const NdtGridOptions& options() const noexcept { return options_; }
 
@@ -107,14 +112,20 @@ class NdtGrid {
   std::vector<NdtCell<Dim>> cells_;
   KdTree<Dim, double> tree_;
   void build_lookup();
+  // The lookup cell of x (row-major index into lookup_start_ − 1), or −1
+  // when x is outside the index or not finite.
+  std::int64_t lookup_index(const Point& x) const;
   // Dense index over the bounding box of the means' own cells
-  // (floor(mean / resolution)), CSR: the means in lookup cell c are
-  // lookup_cells_[lookup_start_[c] .. lookup_start_[c + 1]). Empty when the
-  // box is too large; cells_near then uses the tree.
+  // (floor(mean / resolution)) grown by one cell on every side, CSR: the
+  // cells whose mean lies in the 3^Dim lookup cells around lookup cell l are
+  // lookup_cells_[lookup_start_[l] .. lookup_start_[l + 1]), in row-major
+  // order of their own lookup cell, then by index. Empty when the box is too
+  // large; cells_near then uses the tree. lookup_means_[c] = cells_[c].mean.
   Eigen::Matrix<std::int64_t, Dim, 1> lookup_min_ = Eigen::Matrix<std::int64_t, Dim, 1>::Zero();
   Eigen::Matrix<std::int64_t, Dim, 1> lookup_size_ = Eigen::Matrix<std::int64_t, Dim, 1>::Zero();
   std::vector<std::uint32_t> lookup_start_;
   std::vector<std::uint32_t> lookup_cells_;
+  std::vector<Point> lookup_means_;
   NdtGridOptions options_;
 };
 
