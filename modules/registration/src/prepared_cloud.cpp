@@ -1,6 +1,7 @@
 #include "rove/registration/prepared_cloud.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -15,14 +16,19 @@ namespace {
 struct Nothing {
   Nothing& operator+=(const Nothing&) { return *this; }
 };
-// Returns the distance to the farthest of the neighbours used (0 if fewer
-// than 3 were found); `bound` limits the search (infinite: none).
-// `neighbors` (k entries, or null) receives the neighbours, nearest first.
+// The k nearest points of `query` (bounded by `bound`; infinite: none)
+// and the covariance of their coordinates. Returns the distance to the
+// farthest neighbour (infinite when fewer than 3 were found, and then
+// *covariance is not written). `neighbors` (k entries, or null) receives
+// the neighbours, nearest first.
 template <typename PointOf>
-float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
-                    std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
-                    Eigen::Matrix3d* covariance, float bound, Neighbor<float>* neighbors = nullptr,
-                    Eigen::Vector3d* axis = nullptr);
+float neighbourhood_covariance(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
+                               std::size_t k, float bound, Neighbor<float>* neighbors,
+                               Eigen::Matrix3d& covariance);
+// The normal and GICP covariance / axis of a neighbourhood's covariance,
+// given its smallest eigenpair (found = false: no extent).
+void surface_outputs(bool found, const Eigen::Vector3d& v, double gicp_epsilon, Eigen::Vector3f* normal,
+                     Eigen::Matrix3d* covariance, Eigen::Vector3d* axis);
 }  // namespace
 
 PreparedCloud3D::PreparedCloud3D() = default;
@@ -65,19 +71,40 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
                           [&](std::size_t begin, std::size_t end, Nothing&) {
     float reach = kInf;  // previous query's farthest neighbour, meters
     Eigen::Vector3f prev = Eigen::Vector3f::Zero();
+    // The eigenpairs are solved in batches (smallest_eigenpairs_psd
+    // overlaps their Newton steps).
+    constexpr std::size_t kBatch = 16;
+    std::array<Eigen::Matrix3d, kBatch> C;
+    std::array<std::uint32_t, kBatch> owner;
+    std::array<double, kBatch> lambda;
+    std::array<Eigen::Vector3d, kBatch> axis;
+    bool found[kBatch];
+    std::size_t pending = 0;
+    auto solve = [&] {
+      smallest_eigenpairs_psd(std::span(C.data(), pending), std::span(lambda.data(), pending),
+                              std::span(axis.data(), pending), std::span(found, pending));
+      for (std::size_t j = 0; j < pending; ++j) {
+        const std::uint32_t i = owner[j];
+        surface_outputs(found[j], axis[j], options.gicp_epsilon, options.normals ? &normals_[i] : nullptr,
+                        nullptr, options.covariances ? &gicp_axes_[i] : nullptr);
+      }
+      pending = 0;
+    };
     for (std::size_t t = begin; t < end; ++t) {
       const std::uint32_t i = order[t];
       const Eigen::Vector3f& q = points_[i];
       // A hair above, so rounding cannot drop a neighbour on the sphere.
       const float bound =
           reach == kInf ? kInf : (reach + (q - prev).norm()) * (1 + 1e-5f) + 1e-6f;
-      reach = local_surface(tree_, point, q, k, options.gicp_epsilon,
-                            options.normals ? &normals_[i] : nullptr,
-                            nullptr, bound,
-                            options.neighborhoods ? &neighborhoods_[i * k] : nullptr,
-                            options.covariances ? &gicp_axes_[i] : nullptr);
+      reach = neighbourhood_covariance(tree_, point, q, k, bound,
+                                       options.neighborhoods ? &neighborhoods_[i * k] : nullptr, C[pending]);
       prev = q;
+      // Fewer than 3 neighbours: no extent, the zero outputs stay.
+      if (reach == kInf) continue;
+      owner[pending++] = i;
+      if (pending == kBatch) solve();
     }
+    solve();
   });
 }
 
@@ -92,13 +119,10 @@ Eigen::Matrix3d PreparedCloud3D::covariance(std::size_t i) const {
 
 namespace {
 
-/// local_surface_3d with the neighbours' coordinates read through `point`
-/// (source index → coordinates).
 template <typename PointOf>
-float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
-                    std::size_t k, double gicp_epsilon, Eigen::Vector3f* normal,
-                    Eigen::Matrix3d* covariance, float bound, Neighbor<float>* neighbors,
-                    Eigen::Vector3d* axis) {
+float neighbourhood_covariance(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
+                               std::size_t k, float bound, Neighbor<float>* neighbors,
+                               Eigen::Matrix3d& covariance) {
   constexpr std::size_t kMaxK = 64;
   Neighbor<float> buf[kMaxK];
   std::vector<Neighbor<float>> big;
@@ -111,12 +135,7 @@ float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vec
   }
   std::size_t m = std::isfinite(bound) ? tree.knn(query, k, nn, bound) : tree.knn(query, k, nn);
   if (m < std::min(k, tree.size())) m = tree.knn(query, k, nn);  // the bound was too tight
-  if (m < 3) {
-    if (normal) normal->setZero();
-    if (covariance) *covariance = Eigen::Matrix3d::Identity();
-    if (axis) axis->setZero();
-    return std::numeric_limits<float>::infinity();
-  }
+  if (m < 3) return std::numeric_limits<float>::infinity();
   const float reach = std::sqrt(nn[m - 1].sq_distance);
   // Moments about the query point: the sums stay small, so the covariance
   // keeps its precision far from the origin.
@@ -139,97 +158,135 @@ float local_surface(const KdTree3f& tree, const PointOf& point, const Eigen::Vec
   }
   const double inv = 1.0 / static_cast<double>(m);
   const double mx = sx * inv, my = sy * inv, mz = sz * inv;
-  Eigen::Matrix3d C;
+  Eigen::Matrix3d& C = covariance;
   C(0, 0) = sxx * inv - mx * mx;
   C(0, 1) = C(1, 0) = sxy * inv - mx * my;
   C(0, 2) = C(2, 0) = sxz * inv - mx * mz;
   C(1, 1) = syy * inv - my * my;
   C(1, 2) = C(2, 1) = syz * inv - my * mz;
   C(2, 2) = szz * inv - mz * mz;
-  double lambda = 0;
-  Eigen::Vector3d v;
-  const bool flat = !smallest_eigenpair_psd(C, lambda, v);
-  if (normal) *normal = flat ? Eigen::Vector3f::Zero() : Eigen::Vector3f(v.cast<float>());
-  if (axis) *axis = flat ? Eigen::Vector3d::Zero() : v;
+  return reach;
+}
+
+void surface_outputs(bool found, const Eigen::Vector3d& v, double gicp_epsilon, Eigen::Vector3f* normal,
+                     Eigen::Matrix3d* covariance, Eigen::Vector3d* axis) {
+  if (normal) *normal = found ? Eigen::Vector3f(v.cast<float>()) : Eigen::Vector3f::Zero();
+  if (axis) *axis = found ? v : Eigen::Vector3d::Zero();
   if (covariance) {
     // V·diag(ε, 1, 1)·Vᵀ = I − (1 − ε)·v₁v₁ᵀ (PreparedCloud3D::covariance
     // evaluates the same expression).
-    *covariance = flat ? Eigen::Matrix3d::Identity()
-                       : Eigen::Matrix3d(Eigen::Matrix3d::Identity() - (1.0 - gicp_epsilon) * v * v.transpose());
+    *covariance = found ? Eigen::Matrix3d(Eigen::Matrix3d::Identity() - (1.0 - gicp_epsilon) * v * v.transpose())
+                        : Eigen::Matrix3d::Identity();
   }
-  return reach;
 }
 
 }  // namespace
 
-bool smallest_eigenpair_psd(const Eigen::Matrix3d& C, double& eigenvalue, Eigen::Vector3d& eigenvector) {
+namespace {
+
+/// The cubic of smallest_eigenpair_psd for one matrix, on C / scale.
+struct Cubic {
+  double scale, xx, xy, xz, yy, yz, zz, tr, m2, det, ceiling;
+  double lambda;  // the iterate, from the start below the root
+};
+
+/// False when C is not finite or zero.
+[[gnu::always_inline]] inline bool setup_cubic(const Eigen::Matrix3d& C, Cubic& c) {
   if (!C.allFinite()) return false;
   // On C / scale: entries at most 1, and tr >= 1 (a PSD matrix's largest
   // entry is on its diagonal).
   const double scale = C.cwiseAbs().maxCoeff();
   if (!(scale > 0)) return false;
   const double inv = 1 / scale;
-  const double xx = C(0, 0) * inv, xy = C(0, 1) * inv, xz = C(0, 2) * inv;
-  const double yy = C(1, 1) * inv, yz = C(1, 2) * inv, zz = C(2, 2) * inv;
-  const double tr = xx + yy + zz;
-  const double m2 = xx * yy + xx * zz + yy * zz - xy * xy - xz * xz - yz * yz;
-  const double det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+  c.scale = scale;
+  c.xx = C(0, 0) * inv;
+  c.xy = C(0, 1) * inv;
+  c.xz = C(0, 2) * inv;
+  c.yy = C(1, 1) * inv;
+  c.yz = C(1, 2) * inv;
+  c.zz = C(2, 2) * inv;
+  const double xx = c.xx, xy = c.xy, xz = c.xz, yy = c.yy, yz = c.yz, zz = c.zz;
+  c.tr = xx + yy + zz;
+  c.m2 = xx * yy + xx * zz + yy * zz - xy * xy - xz * xz - yz * yz;
+  c.det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
   // λ₁ is at most the smallest diagonal entry (a Rayleigh quotient).
-  const double ceiling = std::min({xx, yy, zz});
+  c.ceiling = std::min({xx, yy, zz});
   // Start at det/m₂ = λ₁λ₂λ₃/(λ₁λ₂ + λ₁λ₃ + λ₂λ₃) <= λ₁: below the root
   // as Newton needs, and next to it when λ₁ ≪ λ₂ (a surface), where one or
   // two steps then finish.
   // m₂ at rounding level means rank one (λ₁ = λ₂ = 0) and det/m₂ would be
   // noise over noise; a start the rounding put above the root starts over
   // from 0.
-  double lambda = 0;
-  if (det > 0 && m2 > 1e-12 * tr * tr) {
-    const double start = std::min(det / m2, ceiling);
-    if (((start - tr) * start + m2) * start - det < 0) lambda = start;
+  c.lambda = 0;
+  if (c.det > 0 && c.m2 > 1e-12 * c.tr * c.tr) {
+    const double start = std::min(c.det / c.m2, c.ceiling);
+    if (((start - c.tr) * start + c.m2) * start - c.det < 0) c.lambda = start;
   }
-  // Quadratic convergence on a simple root; at a double root (λ₁ = λ₂,
-  // where the eigenvector is any vector of a plane) it halves the gap per
-  // step, so the cap of 64 still reaches double precision. Where q' is
-  // down to rounding (1e-12 of tr², its scale), λ is within ~1e-12 of a
-  // multiple root and a Newton step would divide noise by noise: stop.
-  // On a simple root the error after a step s is O(s²/gap), so once a step
-  // is below 1e-10·tr the next would change λ by ~1e-20 of tr²/gap: stop
-  // there (the eigenvalue returned is the Rayleigh quotient below anyway).
-  // That saved one step in four on scan neighbourhoods.
-  for (int it = 0; it < 64; ++it) {
-    const double q = ((lambda - tr) * lambda + m2) * lambda - det;
-    const double dq = (3 * lambda - 2 * tr) * lambda + m2;
-    if (!(q < 0) || !(dq > 1e-12 * tr * tr)) break;
-    const double step = -q / dq;
-    const double next = std::min(lambda + step, ceiling);
-    if (!(next > lambda)) break;
-    const bool small = !(next - lambda > 1e-10 * tr);
-    lambda = next;
-    if (small) break;
-  }
+  return true;
+}
+
+/// One Newton step on the cubic: whether to go on. λ moves only when the
+/// step is taken.
+//
+// Quadratic convergence on a simple root; at a double root (λ₁ = λ₂,
+// where the eigenvector is any vector of a plane) it halves the gap per
+// step, so the cap of 64 steps still reaches double precision. Where q' is
+// down to rounding (1e-12 of tr², its scale), λ is within ~1e-12 of a
+// multiple root and a Newton step would divide noise by noise: stop.
+// On a simple root the error after a step s is O(s²/gap), so once a step
+// is below 1e-10·tr the next would change λ by ~1e-20 of tr²/gap: stop
+// there (the eigenvalue returned is the Rayleigh quotient below anyway).
+// That saved one step in four on scan neighbourhoods.
+//
+// Without branches (both sides of each test computed, then selected), so
+// that the steps of several cubics interleave.
+inline bool newton_step(Cubic& c) {
+  const double lambda = c.lambda;
+  const double q = ((lambda - c.tr) * lambda + c.m2) * lambda - c.det;
+  const double dq = (3 * lambda - 2 * c.tr) * lambda + c.m2;
+  const bool descend = q < 0 && dq > 1e-12 * c.tr * c.tr;
+  const double next = std::min(lambda + -q / dq, c.ceiling);
+  const bool moves = descend && next > lambda;
+  const bool small = !(next - lambda > 1e-10 * c.tr);
+  c.lambda = moves ? next : lambda;
+  return moves && !small;
+}
+
+void newton(Cubic& c) {
+  for (int it = 0; it < 64; ++it)
+    if (!newton_step(c)) return;
+}
+
+/// The eigenvector of the root found and its Rayleigh quotient.
+[[gnu::always_inline]] inline void finish_eigenpair(const Cubic& c, double& eigenvalue, Eigen::Vector3d& eigenvector) {
+  const double xx = c.xx, xy = c.xy, xz = c.xz, yy = c.yy, yz = c.yz, zz = c.zz;
+  const double lambda = c.lambda;
   const Eigen::Vector3d r0(xx - lambda, xy, xz), r1(xy, yy - lambda, yz), r2(xz, yz, zz - lambda);
-  const Eigen::Vector3d c[3] = {r0.cross(r1), r0.cross(r2), r1.cross(r2)};
-  int best = 0;
-  double best_sq = c[0].squaredNorm();
-  for (int i = 1; i < 3; ++i)
-    if (c[i].squaredNorm() > best_sq) {
-      best = i;
-      best_sq = c[i].squaredNorm();
-    }
-  const Eigen::Vector3d* r[3] = {&r0, &r1, &r2};
-  int top = 0;
-  for (int i = 1; i < 3; ++i)
-    if (r[i]->squaredNorm() > r[top]->squaredNorm()) top = i;
-  const double row_sq = r[top]->squaredNorm();
+  // The largest of the three cross products (the first of equals), picked
+  // without branches: which one wins depends on the surface's orientation,
+  // so a branch would be mispredicted about every other point.
+  const Eigen::Vector3d c0 = r0.cross(r1), c1 = r0.cross(r2), c2 = r1.cross(r2);
+  const double n0 = c0.squaredNorm(), n1 = c1.squaredNorm(), n2 = c2.squaredNorm();
+  const bool take1 = n1 > n0;
+  double best_sq = take1 ? n1 : n0;
+  const bool take2 = n2 > best_sq;
+  best_sq = take2 ? n2 : best_sq;
+  Eigen::Vector3d best;
+  for (int d = 0; d < 3; ++d) best[d] = take2 ? c2[d] : take1 ? c1[d] : c0[d];
+  const double row_sq = std::max({r0.squaredNorm(), r1.squaredNorm(), r2.squaredNorm()});
   // A cross product carries rounding of ~1e-16·|row|²; far above that
   // (1e-10·|row|²) its direction is good to 1e-6. Below it, λ₁ and λ₂
   // agree to 1e-10 (relative) and the eigenvector is any vector of their
   // plane.
   if (best_sq > 1e-20 * row_sq * row_sq) {
-    eigenvector = c[best] / std::sqrt(best_sq);
+    eigenvector = best / std::sqrt(best_sq);
   } else {
     // Rank one or zero: the eigenspace is a plane (orthogonal to the
-    // largest row) or everything.
+    // largest row, the first of equals) or everything.
+    const Eigen::Vector3d* r[3] = {&r0, &r1, &r2};
+    int top = 0;
+    for (int i = 1; i < 3; ++i)
+      if (r[i]->squaredNorm() > r[top]->squaredNorm()) top = i;
     const Eigen::Vector3d& row = *r[top];
     if (row_sq > 1e-24) {
       Eigen::Index axis = 0;
@@ -245,14 +302,65 @@ bool smallest_eigenpair_psd(const Eigen::Matrix3d& C, double& eigenvalue, Eigen:
   const Eigen::Vector3d& v = eigenvector;
   const double rayleigh = xx * v.x() * v.x() + yy * v.y() * v.y() + zz * v.z() * v.z() +
                           2 * (xy * v.x() * v.y() + xz * v.x() * v.z() + yz * v.y() * v.z());
-  eigenvalue = std::max(rayleigh, 0.0) * scale;
+  eigenvalue = std::max(rayleigh, 0.0) * c.scale;
+}
+
+}  // namespace
+
+bool smallest_eigenpair_psd(const Eigen::Matrix3d& C, double& eigenvalue, Eigen::Vector3d& eigenvector) {
+  Cubic c;
+  if (!setup_cubic(C, c)) return false;
+  newton(c);
+  finish_eigenpair(c, eigenvalue, eigenvector);
   return true;
+}
+
+void smallest_eigenpairs_psd(std::span<const Eigen::Matrix3d> C, std::span<double> eigenvalues,
+                             std::span<Eigen::Vector3d> eigenvectors, std::span<bool> found) {
+  ROVE_CHECK_MSG(eigenvalues.size() == C.size() && eigenvectors.size() == C.size() &&
+                     found.size() == C.size(),
+                 "{} matrices but {} eigenvalues, {} eigenvectors and {} flags", C.size(),
+                 eigenvalues.size(), eigenvectors.size(), found.size());
+  // Groups of four: a Newton step is a chain of dependent operations
+  // ending in a division, and four independent chains keep the divider
+  // and the multipliers busy where one would wait on each. A matrix that
+  // has converged (or was rejected) keeps its λ while the others step.
+  constexpr std::size_t kGroup = 4;
+  for (std::size_t g = 0; g < C.size(); g += kGroup) {
+    const std::size_t n = std::min(kGroup, C.size() - g);
+    Cubic c[kGroup];
+    bool going[kGroup] = {};
+    for (std::size_t j = 0; j < n; ++j) {
+      found[g + j] = setup_cubic(C[g + j], c[j]);
+      going[j] = found[g + j];
+    }
+    for (std::size_t j = n; j < kGroup; ++j) c[j] = c[0];  // padding, never read back
+    for (int it = 0; it < 64; ++it) {
+      bool any = false;
+      for (std::size_t j = 0; j < kGroup; ++j) {
+        Cubic stepped = c[j];
+        const bool more = newton_step(stepped);
+        c[j].lambda = going[j] ? stepped.lambda : c[j].lambda;
+        going[j] = going[j] && more;
+        any = any || going[j];
+      }
+      if (!any) break;
+    }
+    for (std::size_t j = 0; j < n; ++j)
+      if (found[g + j]) finish_eigenpair(c[j], eigenvalues[g + j], eigenvectors[g + j]);
+  }
 }
 
 void local_surface_3d(const KdTree3f& tree, const Eigen::Vector3f& query, std::size_t k,
                       double gicp_epsilon, Eigen::Vector3f* normal, Eigen::Matrix3d* covariance) {
-  local_surface(tree, [&](std::uint32_t i) { return tree.indexed_point(i); }, query, k,
-                gicp_epsilon, normal, covariance, std::numeric_limits<float>::infinity());
+  Eigen::Matrix3d C;
+  const float reach = neighbourhood_covariance(
+      tree, [&](std::uint32_t i) { return tree.indexed_point(i); }, query, k,
+      std::numeric_limits<float>::infinity(), nullptr, C);
+  double lambda = 0;
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  const bool found = std::isfinite(reach) && smallest_eigenpair_psd(C, lambda, v);
+  surface_outputs(found, v, gicp_epsilon, normal, covariance, nullptr);
 }
 
 }  // namespace rove

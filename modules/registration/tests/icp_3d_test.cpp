@@ -1,5 +1,7 @@
 #include "rove/registration/icp_3d.h"
 
+#include <cmath>
+#include <memory>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -141,6 +143,45 @@ TEST(SmallestEigenpair, MatchesEigenOnEverySpectrum) {
   Eigen::Vector3d v;
   EXPECT_FALSE(smallest_eigenpair_psd(Eigen::Matrix3d::Zero(), lambda, v));
   EXPECT_FALSE(smallest_eigenpair_psd(Eigen::Matrix3d::Constant(NAN), lambda, v));
+}
+
+// The batched eigenpairs equal the one-at-a-time ones bit for bit, for
+// every spectrum above, zero and non-finite matrices among them, and any
+// count (groups of four with a remainder).
+TEST(SmallestEigenpair, BatchEqualsOneAtATime) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g;
+  const std::vector<Eigen::Vector3d> spectra = {{0.1, 0.5, 1.0}, {0.0, 0.3, 2.0},  {1e-6, 1.0, 1.0},
+                                                {0.2, 0.2, 1.0}, {0.7, 0.7, 0.7},  {0.0, 0.0, 1.0},
+                                                {1e-3, 1e-3, 5.0}, {0.45, 0.5, 0.55}, {0.0, 0.0, 0.0}};
+  std::vector<Eigen::Matrix3d> C;
+  for (int trial = 0; trial < 40; ++trial)
+    for (const auto& ev : spectra) {
+      const Eigen::Matrix3d Q =
+          Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
+      C.push_back(std::exp(g(rng)) * Q * ev.asDiagonal() * Q.transpose());
+    }
+  C[7] = Eigen::Matrix3d::Constant(NAN);
+  C[20](1, 2) = INFINITY;
+  for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{4}, std::size_t{5},
+                              C.size()}) {
+    std::vector<double> lambda(n, -7);
+    std::vector<Eigen::Vector3d> v(n, Eigen::Vector3d::Constant(-7));
+    std::unique_ptr<bool[]> found(new bool[n]);
+    smallest_eigenpairs_psd(std::span(C.data(), n), lambda, v, std::span(found.get(), n));
+    for (std::size_t i = 0; i < n; ++i) {
+      double l1 = -7;
+      Eigen::Vector3d v1 = Eigen::Vector3d::Constant(-7);
+      const bool f1 = smallest_eigenpair_psd(C[i], l1, v1);
+      ASSERT_EQ(found[i], f1) << "matrix " << i << " of " << n;
+      ASSERT_EQ(lambda[i], l1) << "matrix " << i << " of " << n;
+      ASSERT_EQ(v[i], v1) << "matrix " << i << " of " << n;
+    }
+  }
+  std::vector<double> lambda(2);
+  std::vector<Eigen::Vector3d> v(3);
+  bool found[3];
+  EXPECT_THROW(smallest_eigenpairs_psd(std::span(C.data(), 3), lambda, v, found), InvalidArgument);
 }
 
 // The neighbourhoods kept for pairing are the k nearest of each point, as

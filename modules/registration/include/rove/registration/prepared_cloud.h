@@ -138,6 +138,16 @@ class PreparedCloud3D {
 /// atan2, sin and cos.
 bool smallest_eigenpair_psd(const Eigen::Matrix3d& C, double& eigenvalue, Eigen::Vector3d& eigenvector);
 
+/// smallest_eigenpair_psd of every matrix of C: found[i] is its return
+/// value, and eigenvalues[i] / eigenvectors[i] its outputs (untouched
+/// where found[i] is false). The same results bit for bit, in about a
+/// third less time on scan neighbourhoods (83 vs 115-130 ns per matrix):
+/// the Newton steps of four matrices are interleaved, so that their
+/// divisions overlap instead of waiting on each other.
+/// Precondition (InvalidArgument): all four spans have the same size.
+void smallest_eigenpairs_psd(std::span<const Eigen::Matrix3d> C, std::span<double> eigenvalues,
+                             std::span<Eigen::Vector3d> eigenvectors, std::span<bool> found);
+
 /// Normal (unit, or zero when the neighbourhood has no extent) and GICP
 /// covariance of the neighbourhood of `query` among the k nearest points of
 /// `tree`; either output may be null.
