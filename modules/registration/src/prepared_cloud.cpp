@@ -19,11 +19,11 @@ struct Nothing {
 // The k nearest points of `query` (bounded by `bound`; infinite: none)
 // and the covariance of their coordinates. Returns the distance to the
 // farthest neighbour (infinite when fewer than 3 were found, and then
-// *covariance is not written). `neighbors` (k entries, or null) receives
-// the neighbours, nearest first.
+// `covariance` is not written). `neighbors` (k entries) receives the
+// neighbours, nearest first.
 template <typename PointOf>
 float neighbourhood_covariance(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
-                               std::size_t k, float bound, Neighbor<float>* neighbors,
+                               std::size_t k, float bound, std::span<Neighbor<float>> neighbors,
                                Eigen::Matrix3d& covariance);
 // The normal and GICP covariance / axis of a neighbourhood's covariance,
 // given its smallest eigenpair (found = false: no extent).
@@ -80,6 +80,9 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
     std::array<Eigen::Vector3d, kBatch> axis;
     bool found[kBatch];
     std::size_t pending = 0;
+    // Where the neighbours go when the rows are not kept (one allocation
+    // per block, not a cleared buffer per point).
+    std::vector<Neighbor<float>> scratch(options.neighborhoods ? 0 : k);
     auto solve = [&] {
       smallest_eigenpairs_psd(std::span(C.data(), pending), std::span(lambda.data(), pending),
                               std::span(axis.data(), pending), std::span(found, pending));
@@ -96,8 +99,9 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
       // A hair above, so rounding cannot drop a neighbour on the sphere.
       const float bound =
           reach == kInf ? kInf : (reach + (q - prev).norm()) * (1 + 1e-5f) + 1e-6f;
-      reach = neighbourhood_covariance(tree_, point, q, k, bound,
-                                       options.neighborhoods ? &neighborhoods_[i * k] : nullptr, C[pending]);
+      const std::span<Neighbor<float>> row =
+          options.neighborhoods ? std::span(neighborhoods_).subspan(i * k, k) : std::span(scratch);
+      reach = neighbourhood_covariance(tree_, point, q, k, bound, row, C[pending]);
       prev = q;
       // Fewer than 3 neighbours: no extent, the zero outputs stay.
       if (reach == kInf) continue;
@@ -121,18 +125,8 @@ namespace {
 
 template <typename PointOf>
 float neighbourhood_covariance(const KdTree3f& tree, const PointOf& point, const Eigen::Vector3f& query,
-                               std::size_t k, float bound, Neighbor<float>* neighbors,
+                               std::size_t k, float bound, std::span<Neighbor<float>> nn,
                                Eigen::Matrix3d& covariance) {
-  constexpr std::size_t kMaxK = 64;
-  Neighbor<float> buf[kMaxK];
-  std::vector<Neighbor<float>> big;
-  std::span<Neighbor<float>> nn(buf, std::min(k, kMaxK));
-  if (neighbors) {
-    nn = std::span<Neighbor<float>>(neighbors, k);
-  } else if (k > kMaxK) {
-    big.resize(k);
-    nn = big;
-  }
   std::size_t m = std::isfinite(bound) ? tree.knn(query, k, nn, bound) : tree.knn(query, k, nn);
   if (m < std::min(k, tree.size())) m = tree.knn(query, k, nn);  // the bound was too tight
   if (m < 3) return std::numeric_limits<float>::infinity();
@@ -354,9 +348,10 @@ void smallest_eigenpairs_psd(std::span<const Eigen::Matrix3d> C, std::span<doubl
 void local_surface_3d(const KdTree3f& tree, const Eigen::Vector3f& query, std::size_t k,
                       double gicp_epsilon, Eigen::Vector3f* normal, Eigen::Matrix3d* covariance) {
   Eigen::Matrix3d C;
+  std::vector<Neighbor<float>> nn(k);
   const float reach = neighbourhood_covariance(
       tree, [&](std::uint32_t i) { return tree.indexed_point(i); }, query, k,
-      std::numeric_limits<float>::infinity(), nullptr, C);
+      std::numeric_limits<float>::infinity(), nn, C);
   double lambda = 0;
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
   const bool found = std::isfinite(reach) && smallest_eigenpair_psd(C, lambda, v);
