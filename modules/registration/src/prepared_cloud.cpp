@@ -322,13 +322,12 @@ void smallest_eigenpairs_psd(std::span<const Eigen::Matrix3d> C, std::span<doubl
   constexpr std::size_t kGroup = 4;
   for (std::size_t g = 0; g < C.size(); g += kGroup) {
     const std::size_t n = std::min(kGroup, C.size() - g);
-    Cubic c[kGroup];
+    Cubic c[kGroup] = {};  // zero for the lanes setup_cubic rejects or pads
     bool going[kGroup] = {};
     for (std::size_t j = 0; j < n; ++j) {
       found[g + j] = setup_cubic(C[g + j], c[j]);
       going[j] = found[g + j];
     }
-    for (std::size_t j = n; j < kGroup; ++j) c[j] = c[0];  // padding, never read back
     for (int it = 0; it < 64; ++it) {
       bool any = false;
       for (std::size_t j = 0; j < kGroup; ++j) {
