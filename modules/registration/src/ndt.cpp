@@ -88,9 +88,8 @@ NdtGrid<Dim>::NdtGrid(std::span<const Eigen::Matrix<float, Dim, 1>> points,
     }
   };
   // A scan's points come in runs within one cell: a run is summed in
-  // registers and added to its cell when the cell changes.
-  // Plain scalars (not Eigen vectors, which the compiler keeps in memory
-  // with overlapping loads and stores).
+  // plain scalars (an Eigen vector was kept in memory, with overlapping
+  // loads and stores) and added to its cell when the cell changes.
   std::uint64_t run_key = 0;
   double run_sum[Dim] = {};
   double run_sq[kSq] = {};
@@ -206,19 +205,14 @@ void NdtGrid<Dim>::build_lookup() {
       l = l * static_cast<std::size_t>(size[d]) + static_cast<std::size_t>(k[d] - lookup_min_[d]);
     return l;
   };
-  // Linear offsets of the 3^Dim lookup cells around one, in row-major
-  // order (the order cells_near reports in).
+  // The 3^Dim lookup cells around one: their steps per axis and linear
+  // offsets, in row-major order (the order cells_near reports in).
+  std::array<Key, kSpan> steps;
   std::array<std::int64_t, kSpan> offsets{};
-  {
-    std::size_t o = 0;
-    if constexpr (Dim == 3) {
-      for (std::int64_t a = -1; a <= 1; ++a)
-        for (std::int64_t b = -1; b <= 1; ++b)
-          for (std::int64_t c = -1; c <= 1; ++c) offsets[o++] = (a * size[1] + b) * size[0] + c;
-    } else {
-      for (std::int64_t b = -1; b <= 1; ++b)
-        for (std::int64_t c = -1; c <= 1; ++c) offsets[o++] = b * size[0] + c;
-    }
+  for (std::size_t o = 0; o < kSpan; ++o) {
+    std::size_t rest = o;
+    for (int d = 0; d < Dim; ++d, rest /= 3) steps[o][d] = static_cast<std::int64_t>(rest % 3) - 1;
+    for (int d = Dim - 1; d >= 0; --d) offsets[o] = offsets[o] * size[d] + steps[o][d];
   }
   // A list holds only the cells whose mean is within r of its lookup
   // cell's box: no other can be within r of a query in it. The box is
@@ -228,12 +222,7 @@ void NdtGrid<Dim>::build_lookup() {
   auto reaches = [&](std::uint32_t c, std::size_t o) {
     double d2 = 0;
     for (int d = 0; d < Dim; ++d) {
-      const std::int64_t step = Dim == 3 ? (d == 0 ? static_cast<std::int64_t>(o % 3) - 1
-                                            : d == 1 ? static_cast<std::int64_t>(o / 3 % 3) - 1
-                                                     : static_cast<std::int64_t>(o / 9) - 1)
-                                         : (d == 0 ? static_cast<std::int64_t>(o % 3) - 1
-                                                   : static_cast<std::int64_t>(o / 3) - 1);
-      const double lo_face = static_cast<double>(own[c][d] + step) * r;
+      const double lo_face = static_cast<double>(own[c][d] + steps[o][d]) * r;
       const double hi_face = lo_face + r;
       const double slack = 1e-9 * (std::abs(lo_face) + r);
       const double m = cells_[c].mean[d];
