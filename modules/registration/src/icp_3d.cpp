@@ -138,6 +138,134 @@ inline void add_quadratic_sym(Linear6& acc, const Sym3& W, const Eigen::Vector3d
   acc.b.tail<3>() += w * s.cross(v);
 }
 
+/// Two doubles in one SSE2 register (GCC's vector extension): GICP's pairs
+/// are linearized two at a time, lane by lane the same arithmetic as one at
+/// a time.
+using V2 = double __attribute__((vector_size(16)));
+
+inline V2 splat(double x) { return V2{x, x}; }
+
+/// GICP's pairs [b, e) of `pairs` at T (R, t; Rt = Rᵀ), two per step, added
+/// to `a`: the cost and, unless `cost_only`, the upper triangle of H and b.
+/// Per pair as the scalar path of linearize (gicp_information, then
+/// add_quadratic_sym), each lane summed on its own and the two lanes added
+/// at the end of the block. An odd last pair rides in lane 0 with lane 1
+/// repeating it at weight zero.
+template <typename Kernel>
+void linearize_gicp_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
+                          const std::vector<Pair3>& pairs, std::size_t b, std::size_t e,
+                          const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double cs, double ct,
+                          const Kernel& kernel, bool cost_only, Linear6& a) {
+  const Eigen::Vector3f* sp = source.points().data();
+  const Eigen::Vector3f* tp = target.points().data();
+  const Eigen::Vector3d* sa = source.gicp_axes().data();
+  const Eigen::Vector3d* ta = target.gicp_axes().data();
+  const V2 r00 = splat(R(0, 0)), r01 = splat(R(0, 1)), r02 = splat(R(0, 2));
+  const V2 r10 = splat(R(1, 0)), r11 = splat(R(1, 1)), r12 = splat(R(1, 2));
+  const V2 r20 = splat(R(2, 0)), r21 = splat(R(2, 1)), r22 = splat(R(2, 2));
+  const V2 tx = splat(t.x()), ty = splat(t.y()), tz = splat(t.z());
+  const V2 vcs = splat(cs), vct = splat(ct), two = splat(2.0), zero = splat(0.0);
+  V2 H[21] = {};  // upper triangle, row by row
+  V2 g[6] = {};
+  V2 cost = zero, sq = zero;
+  for (std::size_t k = b; k < e; k += 2) {
+    const Pair3& p0 = pairs[k];
+    const bool both = k + 1 < e;
+    const Pair3& p1 = both ? pairs[k + 1] : p0;
+    const V2 live = {1.0, both ? 1.0 : 0.0};
+    const Eigen::Vector3f& s0 = sp[p0.source];
+    const Eigen::Vector3f& s1 = sp[p1.source];
+    const Eigen::Vector3f& d0 = tp[p0.target];
+    const Eigen::Vector3f& d1 = tp[p1.target];
+    const V2 sx = {s0.x(), s1.x()}, sy = {s0.y(), s1.y()}, sz = {s0.z(), s1.z()};
+    // q = R·s + t − p, the residual in the target frame.
+    const V2 qx = r00 * sx + r01 * sy + r02 * sz + tx - V2{d0.x(), d1.x()};
+    const V2 qy = r10 * sx + r11 * sy + r12 * sz + ty - V2{d0.y(), d1.y()};
+    const V2 qz = r20 * sx + r21 * sy + r22 * sz + tz - V2{d0.z(), d1.z()};
+    sq += live * (qx * qx + qy * qy + qz * qz);
+    // m = Rᵀn (the target's axis in the source frame); a, the source's.
+    const Eigen::Vector3d& n0 = ta[p0.target];
+    const Eigen::Vector3d& n1 = ta[p1.target];
+    const V2 nx = {n0.x(), n1.x()}, ny = {n0.y(), n1.y()}, nz = {n0.z(), n1.z()};
+    const V2 mx = r00 * nx + r10 * ny + r20 * nz;
+    const V2 my = r01 * nx + r11 * ny + r21 * nz;
+    const V2 mz = r02 * nx + r12 * ny + r22 * nz;
+    const Eigen::Vector3d& a0 = sa[p0.source];
+    const Eigen::Vector3d& a1 = sa[p1.source];
+    const V2 ax = {a0.x(), a1.x()}, ay = {a0.y(), a1.y()}, az = {a0.z(), a1.z()};
+    // W = (2I − c_s·aaᵀ − c_t·mmᵀ)⁻¹ by its adjugate (gicp_information).
+    const V2 s00 = two - vcs * ax * ax - vct * mx * mx;
+    const V2 s01 = zero - vcs * ax * ay - vct * mx * my;
+    const V2 s02 = zero - vcs * ax * az - vct * mx * mz;
+    const V2 s11 = two - vcs * ay * ay - vct * my * my;
+    const V2 s12 = zero - vcs * ay * az - vct * my * mz;
+    const V2 s22 = two - vcs * az * az - vct * mz * mz;
+    const V2 w00 = s11 * s22 - s12 * s12;
+    const V2 w01 = s02 * s12 - s01 * s22;
+    const V2 w02 = s01 * s12 - s02 * s11;
+    const V2 inv = splat(1.0) / (s00 * w00 + s01 * w01 + s02 * w02);
+    const V2 Wxx = w00 * inv, Wxy = w01 * inv, Wxz = w02 * inv;
+    const V2 Wyy = (s00 * s22 - s02 * s02) * inv;
+    const V2 Wyz = (s01 * s02 - s00 * s12) * inv;
+    const V2 Wzz = (s00 * s11 - s01 * s01) * inv;
+    // qs = Rᵀq and W·qs, in the source frame.
+    const V2 ux = r00 * qx + r10 * qy + r20 * qz;
+    const V2 uy = r01 * qx + r11 * qy + r21 * qz;
+    const V2 uz = r02 * qx + r12 * qy + r22 * qz;
+    const V2 vx = Wxx * ux + Wxy * uy + Wxz * uz;
+    const V2 vy = Wxy * ux + Wyy * uy + Wyz * uz;
+    const V2 vz = Wxz * ux + Wyz * uy + Wzz * uz;
+    const V2 m2 = ux * vx + uy * vy + uz * vz;
+    const KernelValues k0 = kernel.evaluate(std::max(0.0, m2[0]));
+    const KernelValues k1 = kernel.evaluate(std::max(0.0, m2[1]));
+    cost += live * V2{k0.rho, k1.rho};
+    if (cost_only) continue;
+    const V2 w = live * V2{k0.d1, k1.d1};
+    // add_quadratic_sym, lane by lane: H += w[W, −WS; SW, −SWS],
+    // b += w(v, s × v).
+    const V2 X00 = sz * Wxy - sy * Wxz, X10 = sz * Wyy - sy * Wyz, X20 = sz * Wyz - sy * Wzz;
+    const V2 X01 = sx * Wxz - sz * Wxx, X11 = sx * Wyz - sz * Wxy, X21 = sx * Wzz - sz * Wxz;
+    const V2 X02 = sy * Wxx - sx * Wxy, X12 = sy * Wxy - sx * Wyy, X22 = sy * Wxz - sx * Wyz;
+    const V2 Y00 = sy * X20 - sz * X10, Y01 = sy * X21 - sz * X11, Y02 = sy * X22 - sz * X12;
+    const V2 Y11 = sz * X01 - sx * X21, Y12 = sz * X02 - sx * X22;
+    const V2 Y22 = sx * X12 - sy * X02;
+    H[0] += w * Wxx;
+    H[1] += w * Wxy;
+    H[2] += w * Wxz;
+    H[3] -= w * X00;
+    H[4] -= w * X01;
+    H[5] -= w * X02;
+    H[6] += w * Wyy;
+    H[7] += w * Wyz;
+    H[8] -= w * X10;
+    H[9] -= w * X11;
+    H[10] -= w * X12;
+    H[11] += w * Wzz;
+    H[12] -= w * X20;
+    H[13] -= w * X21;
+    H[14] -= w * X22;
+    H[15] -= w * Y00;
+    H[16] -= w * Y01;
+    H[17] -= w * Y02;
+    H[18] -= w * Y11;
+    H[19] -= w * Y12;
+    H[20] -= w * Y22;
+    g[0] += w * vx;
+    g[1] += w * vy;
+    g[2] += w * vz;
+    g[3] += w * (sy * vz - sz * vy);
+    g[4] += w * (sz * vx - sx * vz);
+    g[5] += w * (sx * vy - sy * vx);
+  }
+  a.cost += cost[0] + cost[1];
+  a.sq_dist += sq[0] + sq[1];
+  if (cost_only) return;
+  int j = 0;
+  for (int row = 0; row < 6; ++row)
+    for (int col = row; col < 6; ++col, ++j) a.H(row, col) += H[j][0] + H[j][1];
+  for (int row = 0; row < 6; ++row) a.b[row] += g[row][0] + g[row][1];
+}
+
 /// Linearizes (or, with `cost_only`, evaluates) the cost of the pairs at T.
 template <typename Kernel>
 Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
@@ -154,6 +282,10 @@ Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
     // With J = ∂q/∂(ρ, ω) = [R, −R[s]×] and Rᵀ applied to the target side,
     // every product is taken in the source frame: for a symmetric W,
     // JᵀRWRᵀJ = [W, −W[s]×; [s]×W, −[s]×W[s]×], and JᵀR·v = (v, s × v).
+    if (method == Icp3dMethod::Gicp) {
+      linearize_gicp_pairs(target, source, pairs, b, e, R, t, cs, ct, kernel, cost_only, a);
+      return;
+    }
     for (std::size_t k = b; k < e; ++k) {
       const Pair3& pr = pairs[k];
       const Eigen::Vector3d s = source.points()[pr.source].cast<double>();
