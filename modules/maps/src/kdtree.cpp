@@ -7,6 +7,10 @@
 #include <limits>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "rove/core/check.h"
 
 namespace rove {
@@ -110,22 +114,27 @@ struct KnnSet {
 /// filled holding the admission bound, and an insertion rewrites every
 /// entry j as min(d[j], max(d[j − 1], x)) (the sorted array with x inserted
 /// and its last entry dropped; ties keep the earlier point first, as
-/// KnnSet), a loop of fixed length that compiles to SSE2 compares and
-/// blends. KnnSet's insertion sort mispredicted the exit of its loop about
-/// once per admitted point; this set took 12-15 % less time for k = 10 and
-/// 7 % less for k = 20 over every point of a 0.25 m voxel cloud
-/// (bench/RESULTS.md, bench_kdtree_vs_nanoflann).
+/// KnnSet), four entries at a time in SSE2 compares and blends. KnnSet's
+/// insertion sort mispredicted the exit of its loop about once per admitted
+/// point; this set took 12-15 % less time for k = 10 and 7 % less for
+/// k = 20 over every point of a 0.25 m voxel cloud (bench/RESULTS.md,
+/// bench_kdtree_vs_nanoflann).
+///
+/// Every load and store is an aligned group of four, and d[j − 1] comes
+/// from the groups already in registers (a lane shift), not from a load
+/// one entry off: such a load overlaps two stores of the previous
+/// insertion, which are often still in the store buffer, and cannot be
+/// forwarded from them.
 template <std::size_t N>
 struct SmallKnnSet {
+  static_assert(N % 4 == 0, "whole SSE2 groups");
   std::size_t k;
   std::size_t count = 0;
-  alignas(64) float dist[N + 1];  // dist[0] = -inf, a sentinel; entries at 1..N
-  alignas(64) std::uint32_t pos[N + 1];
+  alignas(16) float dist[N];  // ascending; entries not yet filled hold the bound
+  alignas(16) std::uint32_t pos[N];
   float worst;
   SmallKnnSet(std::size_t k_, float bound) : k(k_), worst(bound) {
-    dist[0] = -std::numeric_limits<float>::infinity();
-    pos[0] = kNotIndexed;
-    for (std::size_t j = 1; j <= N; ++j) {
+    for (std::size_t j = 0; j < N; ++j) {
       dist[j] = bound;
       pos[j] = kNotIndexed;
     }
@@ -133,25 +142,52 @@ struct SmallKnnSet {
   float bound() const { return worst; }
   /// Precondition: x < bound().
   void add(float x, std::uint32_t p) {
-    float nd[N];
-    std::uint32_t np[N];
-    for (std::size_t j = 0; j < N; ++j) {
-      const float here = dist[j + 1];
-      const float before = dist[j];
-      // All-ones masks rather than branches, so that the loop vectorizes.
-      const std::uint32_t keep = 0u - static_cast<std::uint32_t>(here <= x);
-      const std::uint32_t shift = 0u - static_cast<std::uint32_t>(before > x);
-      const float larger = before > x ? before : x;
-      nd[j] = here < larger ? here : larger;
-      np[j] = (keep & pos[j + 1]) | (~keep & ((shift & pos[j]) | (~shift & p)));
+#if defined(__SSE2__)
+    const __m128 vx = _mm_set1_ps(x);
+    const __m128i vp = _mm_set1_epi32(static_cast<int>(p));
+    // The group before the first: d = −inf (never shifted), no position.
+    __m128i prev_d = _mm_castps_si128(_mm_set1_ps(-std::numeric_limits<float>::infinity()));
+    __m128i prev_p = _mm_set1_epi32(static_cast<int>(kNotIndexed));
+    for (std::size_t j = 0; j < N; j += 4) {
+      const __m128i here_d = _mm_load_si128(reinterpret_cast<const __m128i*>(dist + j));
+      const __m128i here_p = _mm_load_si128(reinterpret_cast<const __m128i*>(pos + j));
+      // Entries j − 1 .. j + 2: this group moved up one lane, the previous
+      // group's last entry in lane 0.
+      const __m128 here = _mm_castsi128_ps(here_d);
+      const __m128 before = _mm_castsi128_ps(_mm_or_si128(_mm_slli_si128(here_d, 4), _mm_srli_si128(prev_d, 12)));
+      const __m128i before_p = _mm_or_si128(_mm_slli_si128(here_p, 4), _mm_srli_si128(prev_p, 12));
+      // keep: here <= x (the entry stays); shift: before > x (it moves up).
+      const __m128i keep = _mm_castps_si128(_mm_cmple_ps(here, vx));
+      const __m128i shift = _mm_castps_si128(_mm_cmpgt_ps(before, vx));
+      // min(here, max(before, x)), with _mm_max_ps(a, b) = a > b ? a : b
+      // and _mm_min_ps(a, b) = a < b ? a : b.
+      const __m128 nd = _mm_min_ps(here, _mm_max_ps(before, vx));
+      const __m128i moved = _mm_or_si128(_mm_and_si128(shift, before_p), _mm_andnot_si128(shift, vp));
+      const __m128i np = _mm_or_si128(_mm_and_si128(keep, here_p), _mm_andnot_si128(keep, moved));
+      _mm_store_ps(dist + j, nd);
+      _mm_store_si128(reinterpret_cast<__m128i*>(pos + j), np);
+      prev_d = here_d;
+      prev_p = here_p;
     }
-    std::memcpy(dist + 1, nd, sizeof nd);
-    std::memcpy(pos + 1, np, sizeof np);
+#else
+    // The same per entry, one at a time.
+    float before = -std::numeric_limits<float>::infinity();
+    std::uint32_t before_p = kNotIndexed;
+    for (std::size_t j = 0; j < N; ++j) {
+      const float here = dist[j];
+      const std::uint32_t here_p = pos[j];
+      const float larger = before > x ? before : x;
+      dist[j] = here < larger ? here : larger;
+      pos[j] = here <= x ? here_p : before > x ? before_p : p;
+      before = here;
+      before_p = here_p;
+    }
+#endif
     count += count < k ? 1 : 0;
-    worst = dist[k];
+    worst = dist[k - 1];
   }
   std::size_t write(Neighbor<float>* out, const std::uint32_t* source_of) const {
-    for (std::size_t j = 0; j < count; ++j) out[j] = Neighbor<float>{source_of[pos[j + 1]], dist[j + 1]};
+    for (std::size_t j = 0; j < count; ++j) out[j] = Neighbor<float>{source_of[pos[j]], dist[j]};
     return count;
   }
 };
