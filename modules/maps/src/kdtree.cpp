@@ -10,8 +10,12 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 #include "rove/core/check.h"
+#include "rove/core/cpu.h"
 
 namespace rove {
 
@@ -191,6 +195,59 @@ struct SmallKnnSet {
     return count;
   }
 };
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/// SmallKnnSet in AVX2 groups of eight (N a multiple of 8), for processors
+/// that have it: the same entries after every insertion.
+template <std::size_t N>
+struct WideKnnSet {
+  static_assert(N % 8 == 0, "whole AVX2 groups");
+  std::size_t k;
+  std::size_t count = 0;
+  alignas(32) float dist[N];
+  alignas(32) std::uint32_t pos[N];
+  float worst;
+  WideKnnSet(std::size_t k_, float bound) : k(k_), worst(bound) {
+    for (std::size_t j = 0; j < N; ++j) {
+      dist[j] = bound;
+      pos[j] = kNotIndexed;
+    }
+  }
+  float bound() const { return worst; }
+  __attribute__((target("avx2"), noinline)) void add(float x, std::uint32_t p) {
+    const __m256 vx = _mm256_set1_ps(x);
+    const __m256i vp = _mm256_set1_epi32(static_cast<int>(p));
+    // Lane i takes lane i − 1; lane 0 takes lane 7 (then replaced by the
+    // previous group's last entry).
+    const __m256i up = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);
+    __m256 prev_d = _mm256_set1_ps(-std::numeric_limits<float>::infinity());
+    __m256 prev_p = _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(kNotIndexed)));
+    for (std::size_t j = 0; j < N; j += 8) {
+      const __m256 here = _mm256_load_ps(dist + j);
+      const __m256 here_p = _mm256_load_ps(reinterpret_cast<const float*>(pos + j));
+      const __m256 rot = _mm256_permutevar8x32_ps(here, up);
+      const __m256 rot_p = _mm256_permutevar8x32_ps(here_p, up);
+      const __m256 before = _mm256_blend_ps(rot, prev_d, 0x01);
+      const __m256 before_p = _mm256_blend_ps(rot_p, prev_p, 0x01);
+      const __m256 keep = _mm256_cmp_ps(here, vx, _CMP_LE_OQ);
+      const __m256 shift = _mm256_cmp_ps(before, vx, _CMP_GT_OQ);
+      const __m256 nd = _mm256_min_ps(here, _mm256_max_ps(before, vx));
+      const __m256 moved = _mm256_blendv_ps(_mm256_castsi256_ps(vp), before_p, shift);
+      const __m256 np = _mm256_blendv_ps(moved, here_p, keep);
+      _mm256_store_ps(dist + j, nd);
+      _mm256_store_ps(reinterpret_cast<float*>(pos + j), np);
+      prev_d = rot;  // its lane 0 is this group's last entry
+      prev_p = rot_p;
+    }
+    count += count < k ? 1 : 0;
+    worst = dist[k - 1];
+  }
+  std::size_t write(Neighbor<float>* out, const std::uint32_t* source_of) const {
+    for (std::size_t j = 0; j < count; ++j) out[j] = Neighbor<float>{source_of[pos[j]], dist[j]};
+    return count;
+  }
+};
+#endif
 
 /// Collects every point with distance < bound (source indices).
 template <typename Scalar>
@@ -671,6 +728,17 @@ std::size_t KdTree<Dim, Scalar>::knn(const Point& q, std::size_t k, std::span<Re
       impl_->run(q.data(), set);
       return set.write(out.data(), impl_->source_of.data());
     };
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (k <= 16 && avx2_enabled()) {
+      const auto wide = [&]<std::size_t N>() {
+        WideKnnSet<N> set(k, bound);
+        impl_->run(q.data(), set);
+        return set.write(out.data(), impl_->source_of.data());
+      };
+      if (k <= 8) return wide.template operator()<8>();
+      return wide.template operator()<16>();
+    }
+#endif
     if (k <= 8) return small.template operator()<8>();
     if (k <= 12) return small.template operator()<12>();
     if (k <= 16) return small.template operator()<16>();

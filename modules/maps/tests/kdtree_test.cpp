@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "rove/core/cpu.h"
 #include "rove/core/error.h"
 #include "rove/maps/point_cloud.h"
 #include "rove/maps/pcd.h"
@@ -183,6 +184,59 @@ void degenerate_check(const std::vector<Eigen::Matrix<Scalar, 3, 1>>& pts, std::
     EXPECT_EQ(unsorted, sorted);
   }
   for (std::size_t i = 0; i < pts.size(); i += 37) EXPECT_EQ(tree.indexed_point(static_cast<std::uint32_t>(i)), pts[i]);
+}
+
+// Runs the AVX2 kernels (where the processor has them) or the baseline
+// ones while alive, then restores the setting.
+struct IsaSetting {
+  bool previous = avx2_enabled();
+  explicit IsaSetting(bool avx2) { detail::set_avx2_enabled(avx2); }
+  ~IsaSetting() { detail::set_avx2_enabled(previous); }
+  IsaSetting(const IsaSetting&) = delete;
+  IsaSetting& operator=(const IsaSetting&) = delete;
+};
+
+// The baseline k-nearest set against brute force, on a processor where the
+// AVX2 one would otherwise run.
+TEST(KdTree, BaselineKernelsMatchBruteForce) {
+  const IsaSetting baseline(false);
+  ASSERT_FALSE(avx2_enabled());
+  random_check<3, float>(1500, 10, 11, false, false);
+  random_check<3, float>(1200, 16, 12, false, true);
+  random_check<2, float>(1200, 3, 13, false, true);
+}
+
+// The AVX2 and baseline k-nearest sets keep the very same neighbours, tie
+// choices included (both sizes of the AVX2 set, bounded and not, with and
+// without ties).
+TEST(KdTree, BothInstructionSetsGiveTheSameNeighbours) {
+  if (!detail::cpu_has_avx2()) GTEST_SKIP() << "this processor has no AVX2: only the baseline kernels exist";
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> u(-5, 5);
+  for (bool quantized : {false, true}) {
+    std::vector<Eigen::Vector3f> pts(2000);
+    for (auto& p : pts)
+      for (int d = 0; d < 3; ++d) p[d] = quantized ? std::round(u(rng)) : u(rng);
+    const KdTree3f tree(pts, KdTreeOptions{6});
+    for (int t = 0; t < 100; ++t) {
+      const Eigen::Vector3f q(u(rng), u(rng), u(rng));
+      for (std::size_t k = 1; k <= 17; ++k) {
+        for (float bound : {std::numeric_limits<float>::infinity(), 1.5f}) {
+          std::vector<Neighbor<float>> wide(k), base(k);
+          {
+            const IsaSetting avx2(true);
+            ASSERT_TRUE(avx2_enabled());
+            wide.resize(tree.knn(q, k, wide, bound));
+          }
+          {
+            const IsaSetting baseline(false);
+            base.resize(tree.knn(q, k, base, bound));
+          }
+          ASSERT_EQ(wide, base) << "k " << k << ", bound " << bound << ", query " << t;
+        }
+      }
+    }
+  }
 }
 
 // Points at x = 2^i: every sliding-midpoint split peels one point off, so

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "rove/core/check.h"
+#include "rove/core/cpu.h"
 #include "rove/math/se3.h"
 #include "rove/registration/degeneracy.h"
 #include "rove/registration/parallel.h"
@@ -138,97 +139,105 @@ inline void add_quadratic_sym(Linear6& acc, const Sym3& W, const Eigen::Vector3d
   acc.b.tail<3>() += w * s.cross(v);
 }
 
-/// Two doubles in one SSE2 register (GCC's vector extension): GICP's pairs
-/// are linearized two at a time, lane by lane the same arithmetic as one at
-/// a time.
-using V2 = double __attribute__((vector_size(16)));
+/// Four doubles (GCC's vector extension): GICP's pairs are linearized four
+/// at a time, lane by lane the same arithmetic as one at a time. The
+/// baseline build runs each operation as two SSE2 halves, the AVX2 version
+/// as one instruction; the results are the same bit for bit.
+using V4 = double __attribute__((vector_size(32)));
 
-inline V2 splat(double x) { return V2{x, x}; }
-
-/// GICP's pairs [b, e) of `pairs` at T (R, t; Rt = Rᵀ), two per step, added
-/// to `a`: the cost and, unless `cost_only`, the upper triangle of H and b.
-/// Per pair as the scalar path of linearize (gicp_information, then
-/// add_quadratic_sym), each lane summed on its own and the two lanes added
-/// at the end of the block. An odd last pair rides in lane 0 with lane 1
-/// repeating it at weight zero.
+/// GICP's pairs [b, e) of `pairs` at T (R, t), four per step, added to `a`:
+/// the cost and, unless `cost_only`, the upper triangle of H and b. Per
+/// pair as the scalar path of linearize (gicp_information, then
+/// add_quadratic_sym), each lane summed on its own and the lanes added in
+/// order at the end of the block. Pairs past e ride in the last lanes as
+/// copies of pair e − 1 at weight zero.
 template <typename Kernel>
-void linearize_gicp_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
-                          const std::vector<Pair3>& pairs, std::size_t b, std::size_t e,
-                          const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double cs, double ct,
-                          const Kernel& kernel, bool cost_only, Linear6& a) {
+[[gnu::always_inline]] inline void gicp_pairs_body(const PreparedCloud3D& target, const PreparedCloud3D& source,
+                                                   const std::vector<Pair3>& pairs, std::size_t b, std::size_t e,
+                                                   const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double cs,
+                                                   double ct, const Kernel& kernel, bool cost_only, Linear6& a) {
   const Eigen::Vector3f* sp = source.points().data();
   const Eigen::Vector3f* tp = target.points().data();
   const Eigen::Vector3d* sa = source.gicp_axes().data();
   const Eigen::Vector3d* ta = target.gicp_axes().data();
-  const V2 r00 = splat(R(0, 0)), r01 = splat(R(0, 1)), r02 = splat(R(0, 2));
-  const V2 r10 = splat(R(1, 0)), r11 = splat(R(1, 1)), r12 = splat(R(1, 2));
-  const V2 r20 = splat(R(2, 0)), r21 = splat(R(2, 1)), r22 = splat(R(2, 2));
-  const V2 tx = splat(t.x()), ty = splat(t.y()), tz = splat(t.z());
-  const V2 vcs = splat(cs), vct = splat(ct), two = splat(2.0), zero = splat(0.0);
-  V2 H[21] = {};  // upper triangle, row by row
-  V2 g[6] = {};
-  V2 cost = zero, sq = zero;
-  for (std::size_t k = b; k < e; k += 2) {
-    const Pair3& p0 = pairs[k];
-    const bool both = k + 1 < e;
-    const Pair3& p1 = both ? pairs[k + 1] : p0;
-    const V2 live = {1.0, both ? 1.0 : 0.0};
-    const Eigen::Vector3f& s0 = sp[p0.source];
-    const Eigen::Vector3f& s1 = sp[p1.source];
-    const Eigen::Vector3f& d0 = tp[p0.target];
-    const Eigen::Vector3f& d1 = tp[p1.target];
-    const V2 sx = {s0.x(), s1.x()}, sy = {s0.y(), s1.y()}, sz = {s0.z(), s1.z()};
+  const double r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2);
+  const double r10 = R(1, 0), r11 = R(1, 1), r12 = R(1, 2);
+  const double r20 = R(2, 0), r21 = R(2, 1), r22 = R(2, 2);
+  const double tx = t.x(), ty = t.y(), tz = t.z();
+  constexpr std::size_t kLanes = 4;
+  V4 H[21] = {};  // upper triangle, row by row
+  V4 g[6] = {};
+  V4 cost = {}, sq = {};
+  for (std::size_t k = b; k < e; k += kLanes) {
+    std::uint32_t si[kLanes], ti[kLanes];
+    V4 live;
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const bool in = k + l < e;
+      const Pair3& pr = pairs[in ? k + l : e - 1];
+      si[l] = pr.source;
+      ti[l] = pr.target;
+      live[l] = in ? 1.0 : 0.0;
+    }
+    V4 sx, sy, sz, px, py, pz, ax, ay, az, nx, ny, nz;
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const Eigen::Vector3f& s = sp[si[l]];
+      const Eigen::Vector3f& p = tp[ti[l]];
+      const Eigen::Vector3d& u = sa[si[l]];
+      const Eigen::Vector3d& n = ta[ti[l]];
+      sx[l] = s.x(), sy[l] = s.y(), sz[l] = s.z();
+      px[l] = p.x(), py[l] = p.y(), pz[l] = p.z();
+      ax[l] = u.x(), ay[l] = u.y(), az[l] = u.z();
+      nx[l] = n.x(), ny[l] = n.y(), nz[l] = n.z();
+    }
     // q = R·s + t − p, the residual in the target frame.
-    const V2 qx = r00 * sx + r01 * sy + r02 * sz + tx - V2{d0.x(), d1.x()};
-    const V2 qy = r10 * sx + r11 * sy + r12 * sz + ty - V2{d0.y(), d1.y()};
-    const V2 qz = r20 * sx + r21 * sy + r22 * sz + tz - V2{d0.z(), d1.z()};
+    const V4 qx = r00 * sx + r01 * sy + r02 * sz + tx - px;
+    const V4 qy = r10 * sx + r11 * sy + r12 * sz + ty - py;
+    const V4 qz = r20 * sx + r21 * sy + r22 * sz + tz - pz;
     sq += live * (qx * qx + qy * qy + qz * qz);
-    // m = Rᵀn (the target's axis in the source frame); a, the source's.
-    const Eigen::Vector3d& n0 = ta[p0.target];
-    const Eigen::Vector3d& n1 = ta[p1.target];
-    const V2 nx = {n0.x(), n1.x()}, ny = {n0.y(), n1.y()}, nz = {n0.z(), n1.z()};
-    const V2 mx = r00 * nx + r10 * ny + r20 * nz;
-    const V2 my = r01 * nx + r11 * ny + r21 * nz;
-    const V2 mz = r02 * nx + r12 * ny + r22 * nz;
-    const Eigen::Vector3d& a0 = sa[p0.source];
-    const Eigen::Vector3d& a1 = sa[p1.source];
-    const V2 ax = {a0.x(), a1.x()}, ay = {a0.y(), a1.y()}, az = {a0.z(), a1.z()};
+    // m = Rᵀn: the target's axis in the source frame.
+    const V4 mx = r00 * nx + r10 * ny + r20 * nz;
+    const V4 my = r01 * nx + r11 * ny + r21 * nz;
+    const V4 mz = r02 * nx + r12 * ny + r22 * nz;
     // W = (2I − c_s·aaᵀ − c_t·mmᵀ)⁻¹ by its adjugate (gicp_information).
-    const V2 s00 = two - vcs * ax * ax - vct * mx * mx;
-    const V2 s01 = zero - vcs * ax * ay - vct * mx * my;
-    const V2 s02 = zero - vcs * ax * az - vct * mx * mz;
-    const V2 s11 = two - vcs * ay * ay - vct * my * my;
-    const V2 s12 = zero - vcs * ay * az - vct * my * mz;
-    const V2 s22 = two - vcs * az * az - vct * mz * mz;
-    const V2 w00 = s11 * s22 - s12 * s12;
-    const V2 w01 = s02 * s12 - s01 * s22;
-    const V2 w02 = s01 * s12 - s02 * s11;
-    const V2 inv = splat(1.0) / (s00 * w00 + s01 * w01 + s02 * w02);
-    const V2 Wxx = w00 * inv, Wxy = w01 * inv, Wxz = w02 * inv;
-    const V2 Wyy = (s00 * s22 - s02 * s02) * inv;
-    const V2 Wyz = (s01 * s02 - s00 * s12) * inv;
-    const V2 Wzz = (s00 * s11 - s01 * s01) * inv;
-    // qs = Rᵀq and W·qs, in the source frame.
-    const V2 ux = r00 * qx + r10 * qy + r20 * qz;
-    const V2 uy = r01 * qx + r11 * qy + r21 * qz;
-    const V2 uz = r02 * qx + r12 * qy + r22 * qz;
-    const V2 vx = Wxx * ux + Wxy * uy + Wxz * uz;
-    const V2 vy = Wxy * ux + Wyy * uy + Wyz * uz;
-    const V2 vz = Wxz * ux + Wyz * uy + Wzz * uz;
-    const V2 m2 = ux * vx + uy * vy + uz * vz;
-    const KernelValues k0 = kernel.evaluate(std::max(0.0, m2[0]));
-    const KernelValues k1 = kernel.evaluate(std::max(0.0, m2[1]));
-    cost += live * V2{k0.rho, k1.rho};
+    const V4 s00 = 2.0 - cs * ax * ax - ct * mx * mx;
+    const V4 s01 = 0.0 - cs * ax * ay - ct * mx * my;
+    const V4 s02 = 0.0 - cs * ax * az - ct * mx * mz;
+    const V4 s11 = 2.0 - cs * ay * ay - ct * my * my;
+    const V4 s12 = 0.0 - cs * ay * az - ct * my * mz;
+    const V4 s22 = 2.0 - cs * az * az - ct * mz * mz;
+    const V4 w00 = s11 * s22 - s12 * s12;
+    const V4 w01 = s02 * s12 - s01 * s22;
+    const V4 w02 = s01 * s12 - s02 * s11;
+    const V4 inv = 1.0 / (s00 * w00 + s01 * w01 + s02 * w02);
+    const V4 Wxx = w00 * inv, Wxy = w01 * inv, Wxz = w02 * inv;
+    const V4 Wyy = (s00 * s22 - s02 * s02) * inv;
+    const V4 Wyz = (s01 * s02 - s00 * s12) * inv;
+    const V4 Wzz = (s00 * s11 - s01 * s01) * inv;
+    // qs = Rᵀq and v = W·qs, in the source frame.
+    const V4 ux = r00 * qx + r10 * qy + r20 * qz;
+    const V4 uy = r01 * qx + r11 * qy + r21 * qz;
+    const V4 uz = r02 * qx + r12 * qy + r22 * qz;
+    const V4 vx = Wxx * ux + Wxy * uy + Wxz * uz;
+    const V4 vy = Wxy * ux + Wyy * uy + Wyz * uz;
+    const V4 vz = Wxz * ux + Wyz * uy + Wzz * uz;
+    const V4 m2 = ux * vx + uy * vy + uz * vz;
+    V4 rho, w;
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const KernelValues kv = kernel.evaluate(std::max(0.0, m2[l]));
+      rho[l] = kv.rho;
+      w[l] = kv.d1;
+    }
+    cost += live * rho;
     if (cost_only) continue;
-    const V2 w = live * V2{k0.d1, k1.d1};
+    w *= live;
     // add_quadratic_sym, lane by lane: H += w[W, −WS; SW, −SWS],
     // b += w(v, s × v).
-    const V2 X00 = sz * Wxy - sy * Wxz, X10 = sz * Wyy - sy * Wyz, X20 = sz * Wyz - sy * Wzz;
-    const V2 X01 = sx * Wxz - sz * Wxx, X11 = sx * Wyz - sz * Wxy, X21 = sx * Wzz - sz * Wxz;
-    const V2 X02 = sy * Wxx - sx * Wxy, X12 = sy * Wxy - sx * Wyy, X22 = sy * Wxz - sx * Wyz;
-    const V2 Y00 = sy * X20 - sz * X10, Y01 = sy * X21 - sz * X11, Y02 = sy * X22 - sz * X12;
-    const V2 Y11 = sz * X01 - sx * X21, Y12 = sz * X02 - sx * X22;
-    const V2 Y22 = sx * X12 - sy * X02;
+    const V4 X00 = sz * Wxy - sy * Wxz, X10 = sz * Wyy - sy * Wyz, X20 = sz * Wyz - sy * Wzz;
+    const V4 X01 = sx * Wxz - sz * Wxx, X11 = sx * Wyz - sz * Wxy, X21 = sx * Wzz - sz * Wxz;
+    const V4 X02 = sy * Wxx - sx * Wxy, X12 = sy * Wxy - sx * Wyy, X22 = sy * Wxz - sx * Wyz;
+    const V4 Y00 = sy * X20 - sz * X10, Y01 = sy * X21 - sz * X11, Y02 = sy * X22 - sz * X12;
+    const V4 Y11 = sz * X01 - sx * X21, Y12 = sz * X02 - sx * X22;
+    const V4 Y22 = sx * X12 - sy * X02;
     H[0] += w * Wxx;
     H[1] += w * Wxy;
     H[2] += w * Wxz;
@@ -257,13 +266,47 @@ void linearize_gicp_pairs(const PreparedCloud3D& target, const PreparedCloud3D& 
     g[4] += w * (sz * vx - sx * vz);
     g[5] += w * (sx * vy - sy * vx);
   }
-  a.cost += cost[0] + cost[1];
-  a.sq_dist += sq[0] + sq[1];
+  const auto lanes = [](const V4& v) { return ((v[0] + v[1]) + v[2]) + v[3]; };
+  a.cost += lanes(cost);
+  a.sq_dist += lanes(sq);
   if (cost_only) return;
   int j = 0;
   for (int row = 0; row < 6; ++row)
-    for (int col = row; col < 6; ++col, ++j) a.H(row, col) += H[j][0] + H[j][1];
-  for (int row = 0; row < 6; ++row) a.b[row] += g[row][0] + g[row][1];
+    for (int col = row; col < 6; ++col, ++j) a.H(row, col) += lanes(H[j]);
+  for (int row = 0; row < 6; ++row) a.b[row] += lanes(g[row]);
+}
+
+template <typename Kernel>
+void gicp_pairs_baseline(const PreparedCloud3D& target, const PreparedCloud3D& source,
+                         const std::vector<Pair3>& pairs, std::size_t b, std::size_t e, const Eigen::Matrix3d& R,
+                         const Eigen::Vector3d& t, double cs, double ct, const Kernel& kernel, bool cost_only,
+                         Linear6& a) {
+  gicp_pairs_body(target, source, pairs, b, e, R, t, cs, ct, kernel, cost_only, a);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+template <typename Kernel>
+__attribute__((target("avx2"))) void gicp_pairs_avx2(const PreparedCloud3D& target, const PreparedCloud3D& source,
+                                                     const std::vector<Pair3>& pairs, std::size_t b, std::size_t e,
+                                                     const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double cs,
+                                                     double ct, const Kernel& kernel, bool cost_only, Linear6& a) {
+  gicp_pairs_body(target, source, pairs, b, e, R, t, cs, ct, kernel, cost_only, a);
+}
+#endif
+
+/// GICP's pairs [b, e), by the AVX2 version where it runs (rove/core/cpu.h).
+template <typename Kernel>
+void linearize_gicp_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
+                          const std::vector<Pair3>& pairs, std::size_t b, std::size_t e,
+                          const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double cs, double ct,
+                          const Kernel& kernel, bool cost_only, Linear6& a) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (avx2_enabled()) {
+    gicp_pairs_avx2(target, source, pairs, b, e, R, t, cs, ct, kernel, cost_only, a);
+    return;
+  }
+#endif
+  gicp_pairs_baseline(target, source, pairs, b, e, R, t, cs, ct, kernel, cost_only, a);
 }
 
 /// Linearizes (or, with `cost_only`, evaluates) the cost of the pairs at T.

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "rove/core/cpu.h"
 #include "rove/core/error.h"
 #include "rove/registration/icp_3d_multi_resolution.h"
 #include "synthetic_3d.h"
@@ -82,6 +83,40 @@ TEST(Icp3d, ParallelEqualsSerial) {
   EXPECT_EQ(a.matrix, b.matrix);
   EXPECT_EQ(a.iterations, b.iterations);
   EXPECT_EQ(a.information, b.information);
+}
+
+// GICP's linearization and the KD-tree's k-nearest set have AVX2 versions
+// (rove/core/cpu.h); they must give the very same run as the baseline
+// ones: the same covariances, pose, iterations and information matrix, bit
+// for bit. The pair count is not a multiple of four, so the last step of
+// the linearization runs with padded lanes.
+TEST(Icp3d, BothInstructionSetsGiveTheSameRun) {
+  if (!detail::cpu_has_avx2()) GTEST_SKIP() << "this processor has no AVX2: only the baseline kernels exist";
+  const bool initial = avx2_enabled();
+  struct Restore {
+    bool on;
+    ~Restore() { detail::set_avx2_enabled(on); }
+  } restore{initial};
+  const auto scene = test::room_3d(0.2);
+  const auto src = test::as_seen_from(scene, make_pose(0.1, -0.05, 0.02, 0.01, 0, 0.06), 0.01, 3);
+  Icp3dOptions o;
+  o.method = Icp3dMethod::Gicp;
+  detail::set_avx2_enabled(true);
+  const PreparedCloud3D ta(scene, full()), sa(src, full());
+  const auto a = icp_3d(ta, sa, Eigen::Isometry3d::Identity(), o);
+  detail::set_avx2_enabled(false);
+  const PreparedCloud3D tb(scene, full()), sb(src, full());
+  const auto b = icp_3d(tb, sb, Eigen::Isometry3d::Identity(), o);
+  for (std::size_t i = 0; i < ta.size(); ++i) ASSERT_EQ(ta.covariance(i), tb.covariance(i)) << "point " << i;
+  for (std::size_t i = 0; i < ta.neighborhoods().size(); ++i)
+    ASSERT_EQ(ta.neighborhoods()[i], tb.neighborhoods()[i]) << "entry " << i;
+  EXPECT_EQ(a.termination, RegistrationTermination::Converged) << a.message;
+  EXPECT_NE(a.correspondences % 4, 0u);
+  EXPECT_EQ(a.matrix, b.matrix);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.correspondences, b.correspondences);
+  EXPECT_EQ(a.information, b.information);
+  EXPECT_EQ(a.fitness, b.fitness);
 }
 
 // Normals and covariances are computed in the tree's order with each search
