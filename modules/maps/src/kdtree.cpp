@@ -424,8 +424,12 @@ struct KdTree<Dim, Scalar>::Impl {
   /// spent a third of a 3D k-nearest search on calls. A tree deeper than
   /// the fixed stack (only adversarial data) takes the recursive form; both
   /// visit the same nodes in the same order.
+  ///
+  /// Always inlined (as run() is), so that a caller compiled for AVX2
+  /// (wide_knn) compiles the whole search for it.
   template <class Set>
-  void search(std::uint32_t n, const Scalar* q, Scalar min_sq, std::array<Scalar, Dim>& dists, Set& set) const {
+  [[gnu::always_inline]] inline void search(std::uint32_t n, const Scalar* q, Scalar min_sq,
+                                            std::array<Scalar, Dim>& dists, Set& set) const {
     if (depth > kStackDepth) {
       search_recursive(n, q, min_sq, dists, set);
       return;
@@ -520,7 +524,7 @@ struct KdTree<Dim, Scalar>::Impl {
   }
 
   template <class Set>
-  void run(const Scalar* q, Set& set) const {
+  [[gnu::always_inline]] inline void run(const Scalar* q, Set& set) const {
     std::array<Scalar, Dim> dists;
     const Scalar min_sq = initial_distances(q, dists);
     search(0, q, min_sq, dists, set);
@@ -568,6 +572,18 @@ struct KdTree<Dim, Scalar>::Impl {
     search(n, q, Scalar(0), dists, set);
   }
 };
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/// The k nearest (k <= N) by a WideKnnSet, the whole search compiled for
+/// AVX2 (run and search are inlined here).
+template <std::size_t N, class Impl>
+__attribute__((target("avx2"))) std::size_t wide_knn(const Impl& impl, const float* q, std::size_t k, float bound,
+                                                     Neighbor<float>* out) {
+  WideKnnSet<N> set(k, bound);
+  impl.run(q, set);
+  return set.write(out, impl.source_of.data());
+}
+#endif
 
 template <int Dim, typename Scalar>
 KdTree<Dim, Scalar>::KdTree() : KdTree(FinitePoints{}, KdTreeOptions{}) {}
@@ -730,13 +746,8 @@ std::size_t KdTree<Dim, Scalar>::knn(const Point& q, std::size_t k, std::span<Re
     };
 #if defined(__x86_64__) && defined(__GNUC__)
     if (k <= 16 && avx2_enabled()) {
-      const auto wide = [&]<std::size_t N>() {
-        WideKnnSet<N> set(k, bound);
-        impl_->run(q.data(), set);
-        return set.write(out.data(), impl_->source_of.data());
-      };
-      if (k <= 8) return wide.template operator()<8>();
-      return wide.template operator()<16>();
+      if (k <= 8) return wide_knn<8>(*impl_, q.data(), k, bound, out.data());
+      return wide_knn<16>(*impl_, q.data(), k, bound, out.data());
     }
 #endif
     if (k <= 8) return small.template operator()<8>();
