@@ -182,7 +182,8 @@ TEST(SmallestEigenpair, MatchesEigenOnEverySpectrum) {
 
 // The batched eigenpairs equal the one-at-a-time ones bit for bit, for
 // every spectrum above, zero and non-finite matrices among them, and any
-// count (groups of four with a remainder).
+// count (groups of four with a remainder), in both the AVX2 and the
+// baseline version.
 TEST(SmallestEigenpair, BatchEqualsOneAtATime) {
   std::mt19937 rng(5);
   std::normal_distribution<double> g;
@@ -198,19 +199,30 @@ TEST(SmallestEigenpair, BatchEqualsOneAtATime) {
     }
   C[7] = Eigen::Matrix3d::Constant(NAN);
   C[20](1, 2) = INFINITY;
-  for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{4}, std::size_t{5},
-                              C.size()}) {
-    std::vector<double> lambda(n, -7);
-    std::vector<Eigen::Vector3d> v(n, Eigen::Vector3d::Constant(-7));
-    std::unique_ptr<bool[]> found(new bool[n]);
-    smallest_eigenpairs_psd(std::span(C.data(), n), lambda, v, std::span(found.get(), n));
-    for (std::size_t i = 0; i < n; ++i) {
-      double l1 = -7;
-      Eigen::Vector3d v1 = Eigen::Vector3d::Constant(-7);
-      const bool f1 = smallest_eigenpair_psd(C[i], l1, v1);
-      ASSERT_EQ(found[i], f1) << "matrix " << i << " of " << n;
-      ASSERT_EQ(lambda[i], l1) << "matrix " << i << " of " << n;
-      ASSERT_EQ(v[i], v1) << "matrix " << i << " of " << n;
+  C[30](0, 0) = -INFINITY;
+  // Both versions of the batch (rove/core/cpu.h): the AVX2 one where the
+  // processor has it, the baseline one.
+  const bool initial = avx2_enabled();
+  struct Restore {
+    bool on;
+    ~Restore() { detail::set_avx2_enabled(on); }
+  } restore{initial};
+  for (const bool avx2 : {true, false}) {
+    detail::set_avx2_enabled(avx2);
+    for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{4}, std::size_t{5},
+                                C.size()}) {
+      std::vector<double> lambda(n, -7);
+      std::vector<Eigen::Vector3d> v(n, Eigen::Vector3d::Constant(-7));
+      std::unique_ptr<bool[]> found(new bool[n]);
+      smallest_eigenpairs_psd(std::span(C.data(), n), lambda, v, std::span(found.get(), n));
+      for (std::size_t i = 0; i < n; ++i) {
+        double l1 = -7;
+        Eigen::Vector3d v1 = Eigen::Vector3d::Constant(-7);
+        const bool f1 = smallest_eigenpair_psd(C[i], l1, v1);
+        ASSERT_EQ(found[i], f1) << "matrix " << i << " of " << n << ", avx2 " << avx2_enabled();
+        ASSERT_EQ(lambda[i], l1) << "matrix " << i << " of " << n << ", avx2 " << avx2_enabled();
+        ASSERT_EQ(v[i], v1) << "matrix " << i << " of " << n << ", avx2 " << avx2_enabled();
+      }
     }
   }
   std::vector<double> lambda(2);
