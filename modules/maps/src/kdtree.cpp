@@ -113,6 +113,34 @@ struct KnnSet {
   }
 };
 
+/// The state of SmallKnnSet and WideKnnSet: the k nearest so far in
+/// arrays of N entries aligned to Align bytes, ascending, the entries not
+/// yet filled holding the admission bound.
+template <std::size_t N, std::size_t Align>
+struct KnnArrays {
+  std::size_t k;
+  std::size_t count = 0;
+  alignas(Align) float dist[N];
+  alignas(Align) std::uint32_t pos[N];
+  float worst;
+  KnnArrays(std::size_t k_, float bound) : k(k_), worst(bound) {
+    for (std::size_t j = 0; j < N; ++j) {
+      dist[j] = bound;
+      pos[j] = kNotIndexed;
+    }
+  }
+  float bound() const { return worst; }
+  /// After an insertion: one more found (up to k), and the new bound.
+  void inserted() {
+    count += count < k ? 1 : 0;
+    worst = dist[k - 1];
+  }
+  std::size_t write(Neighbor<float>* out, const std::uint32_t* source_of) const {
+    for (std::size_t j = 0; j < count; ++j) out[j] = Neighbor<float>{source_of[pos[j]], dist[j]};
+    return count;
+  }
+};
+
 /// KnnSet for float distances and k <= N, with no branch on the data: the
 /// distances and positions live in arrays of N entries, those not yet
 /// filled holding the admission bound, and an insertion rewrites every
@@ -130,20 +158,11 @@ struct KnnSet {
 /// insertion, which are often still in the store buffer, and cannot be
 /// forwarded from them.
 template <std::size_t N>
-struct SmallKnnSet {
+struct SmallKnnSet : KnnArrays<N, 16> {
   static_assert(N % 4 == 0, "whole SSE2 groups");
-  std::size_t k;
-  std::size_t count = 0;
-  alignas(16) float dist[N];  // ascending; entries not yet filled hold the bound
-  alignas(16) std::uint32_t pos[N];
-  float worst;
-  SmallKnnSet(std::size_t k_, float bound) : k(k_), worst(bound) {
-    for (std::size_t j = 0; j < N; ++j) {
-      dist[j] = bound;
-      pos[j] = kNotIndexed;
-    }
-  }
-  float bound() const { return worst; }
+  using KnnArrays<N, 16>::KnnArrays;
+  using KnnArrays<N, 16>::dist;
+  using KnnArrays<N, 16>::pos;
   /// Precondition: x < bound().
   void add(float x, std::uint32_t p) {
 #if defined(__SSE2__)
@@ -187,12 +206,7 @@ struct SmallKnnSet {
       before_p = here_p;
     }
 #endif
-    count += count < k ? 1 : 0;
-    worst = dist[k - 1];
-  }
-  std::size_t write(Neighbor<float>* out, const std::uint32_t* source_of) const {
-    for (std::size_t j = 0; j < count; ++j) out[j] = Neighbor<float>{source_of[pos[j]], dist[j]};
-    return count;
+    this->inserted();
   }
 };
 
@@ -200,20 +214,11 @@ struct SmallKnnSet {
 /// SmallKnnSet in AVX2 groups of eight (N a multiple of 8), for processors
 /// that have it: the same entries after every insertion.
 template <std::size_t N>
-struct WideKnnSet {
+struct WideKnnSet : KnnArrays<N, 32> {
   static_assert(N % 8 == 0, "whole AVX2 groups");
-  std::size_t k;
-  std::size_t count = 0;
-  alignas(32) float dist[N];
-  alignas(32) std::uint32_t pos[N];
-  float worst;
-  WideKnnSet(std::size_t k_, float bound) : k(k_), worst(bound) {
-    for (std::size_t j = 0; j < N; ++j) {
-      dist[j] = bound;
-      pos[j] = kNotIndexed;
-    }
-  }
-  float bound() const { return worst; }
+  using KnnArrays<N, 32>::KnnArrays;
+  using KnnArrays<N, 32>::dist;
+  using KnnArrays<N, 32>::pos;
   __attribute__((target("avx2"), noinline)) void add(float x, std::uint32_t p) {
     const __m256 vx = _mm256_set1_ps(x);
     const __m256i vp = _mm256_set1_epi32(static_cast<int>(p));
@@ -239,12 +244,7 @@ struct WideKnnSet {
       prev_d = rot;  // its lane 0 is this group's last entry
       prev_p = rot_p;
     }
-    count += count < k ? 1 : 0;
-    worst = dist[k - 1];
-  }
-  std::size_t write(Neighbor<float>* out, const std::uint32_t* source_of) const {
-    for (std::size_t j = 0; j < count; ++j) out[j] = Neighbor<float>{source_of[pos[j]], dist[j]};
-    return count;
+    this->inserted();
   }
 };
 #endif

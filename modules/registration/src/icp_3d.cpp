@@ -59,13 +59,11 @@ struct Linear6 {
   }
 };
 
-/// A symmetric 3×3 matrix by its upper triangle.
+/// A symmetric 3×3 matrix by its upper triangle; T is double, or V4 (four
+/// pairs in vector lanes, below).
+template <typename T>
 struct Sym3 {
-  double xx, xy, xz, yy, yz, zz;
-  Eigen::Vector3d operator*(const Eigen::Vector3d& v) const {
-    return {xx * v.x() + xy * v.y() + xz * v.z(), xy * v.x() + yy * v.y() + yz * v.z(),
-            xz * v.x() + yz * v.y() + zz * v.z()};
-  }
+  T xx, xy, xz, yy, yz, zz;
 };
 
 /// GICP's information matrix of one pair in the source frame, with both
@@ -73,17 +71,19 @@ struct Sym3 {
 /// (C_s + RᵀC_tR)⁻¹ = (2I − c_s·aaᵀ − c_t·mmᵀ)⁻¹, m = Rᵀn, by its adjugate.
 /// The sum's eigenvalues are at least ε_s + ε_t > 0, so it is never
 /// singular.
-inline Sym3 gicp_information(const Eigen::Vector3d& a, double cs, const Eigen::Vector3d& m, double ct) {
-  const double s00 = 2 - cs * a.x() * a.x() - ct * m.x() * m.x();
-  const double s01 = -cs * a.x() * a.y() - ct * m.x() * m.y();
-  const double s02 = -cs * a.x() * a.z() - ct * m.x() * m.z();
-  const double s11 = 2 - cs * a.y() * a.y() - ct * m.y() * m.y();
-  const double s12 = -cs * a.y() * a.z() - ct * m.y() * m.z();
-  const double s22 = 2 - cs * a.z() * a.z() - ct * m.z() * m.z();
-  const double w00 = s11 * s22 - s12 * s12;
-  const double w01 = s02 * s12 - s01 * s22;
-  const double w02 = s01 * s12 - s02 * s11;
-  const double inv = 1 / (s00 * w00 + s01 * w01 + s02 * w02);
+template <typename T>
+[[gnu::always_inline]] inline Sym3<T> gicp_information(const T& ax, const T& ay, const T& az, double cs,
+                                                       const T& mx, const T& my, const T& mz, double ct) {
+  const T s00 = 2.0 - cs * ax * ax - ct * mx * mx;
+  const T s01 = 0.0 - cs * ax * ay - ct * mx * my;
+  const T s02 = 0.0 - cs * ax * az - ct * mx * mz;
+  const T s11 = 2.0 - cs * ay * ay - ct * my * my;
+  const T s12 = 0.0 - cs * ay * az - ct * my * mz;
+  const T s22 = 2.0 - cs * az * az - ct * mz * mz;
+  const T w00 = s11 * s22 - s12 * s12;
+  const T w01 = s02 * s12 - s01 * s22;
+  const T w02 = s01 * s12 - s02 * s11;
+  const T inv = 1.0 / (s00 * w00 + s01 * w01 + s02 * w02);
   return {w00 * inv,
           w01 * inv,
           w02 * inv,
@@ -92,51 +92,45 @@ inline Sym3 gicp_information(const Eigen::Vector3d& a, double cs, const Eigen::V
           (s00 * s11 - s01 * s01) * inv};
 }
 
-/// Adds w·JᵀR W RᵀJ to the upper triangle of acc.H and w·JᵀR·v to acc.b,
-/// for J = [R, −R[s]×] (see linearize) and a symmetric W:
-/// H += w[W, −WS; SW, −SWS], S = [s]×, spelled out on the upper triangle.
-/// The columns of WS are s₂W₁ − s₁W₂, s₀W₂ − s₂W₀, s₁W₀ − s₀W₁ (Wⱼ the
-/// columns of W), and the rows of S·WS are s₁(WS)₂ − s₂(WS)₁,
-/// s₂(WS)₀ − s₀(WS)₂, s₀(WS)₁ − s₁(WS)₀.
-inline void add_quadratic_sym(Linear6& acc, const Sym3& W, const Eigen::Vector3d& s, double w,
-                              const Eigen::Vector3d& v) {
-  const double s0 = s.x(), s1 = s.y(), s2 = s.z();
-  // Columns of W.
-  const double W00 = W.xx, W10 = W.xy, W20 = W.xz;
-  const double W01 = W.xy, W11 = W.yy, W21 = W.yz;
-  const double W02 = W.xz, W12 = W.yz, W22 = W.zz;
+/// The terms of JᵀR W RᵀJ and JᵀR·v for J = [R, −R[s]×] (see linearize)
+/// and a symmetric W: h, the upper triangle of [W, −WS; SW, −SWS] row by
+/// row (S = [s]×), and g = (v, s × v). The columns of WS are s₂W₁ − s₁W₂,
+/// s₀W₂ − s₂W₀, s₁W₀ − s₀W₁ (Wⱼ the columns of W), and the rows of S·WS
+/// are s₁(WS)₂ − s₂(WS)₁, s₂(WS)₀ − s₀(WS)₂, s₀(WS)₁ − s₁(WS)₀.
+template <typename T>
+[[gnu::always_inline]] inline void quadratic_terms(const Sym3<T>& W, const T& sx, const T& sy, const T& sz,
+                                                   const T& vx, const T& vy, const T& vz, T (&h)[21],
+                                                   T (&g)[6]) {
   // X = W·S by columns.
-  const double X00 = s2 * W01 - s1 * W02, X10 = s2 * W11 - s1 * W12, X20 = s2 * W21 - s1 * W22;
-  const double X01 = s0 * W02 - s2 * W00, X11 = s0 * W12 - s2 * W10, X21 = s0 * W22 - s2 * W20;
-  const double X02 = s1 * W00 - s0 * W01, X12 = s1 * W10 - s0 * W11, X22 = s1 * W20 - s0 * W21;
+  const T X00 = sz * W.xy - sy * W.xz, X10 = sz * W.yy - sy * W.yz, X20 = sz * W.yz - sy * W.zz;
+  const T X01 = sx * W.xz - sz * W.xx, X11 = sx * W.yz - sz * W.xy, X21 = sx * W.zz - sz * W.xz;
+  const T X02 = sy * W.xx - sx * W.xy, X12 = sy * W.xy - sx * W.yy, X22 = sy * W.xz - sx * W.yz;
   // Y = S·X, upper triangle.
-  const double Y00 = s1 * X20 - s2 * X10, Y01 = s1 * X21 - s2 * X11, Y02 = s1 * X22 - s2 * X12;
-  const double Y11 = s2 * X01 - s0 * X21, Y12 = s2 * X02 - s0 * X22;
-  const double Y22 = s0 * X12 - s1 * X02;
-  Mat6& H = acc.H;
-  H(0, 0) += w * W.xx;
-  H(0, 1) += w * W.xy;
-  H(0, 2) += w * W.xz;
-  H(1, 1) += w * W.yy;
-  H(1, 2) += w * W.yz;
-  H(2, 2) += w * W.zz;
-  H(0, 3) -= w * X00;
-  H(1, 3) -= w * X10;
-  H(2, 3) -= w * X20;
-  H(0, 4) -= w * X01;
-  H(1, 4) -= w * X11;
-  H(2, 4) -= w * X21;
-  H(0, 5) -= w * X02;
-  H(1, 5) -= w * X12;
-  H(2, 5) -= w * X22;
-  H(3, 3) -= w * Y00;
-  H(3, 4) -= w * Y01;
-  H(3, 5) -= w * Y02;
-  H(4, 4) -= w * Y11;
-  H(4, 5) -= w * Y12;
-  H(5, 5) -= w * Y22;
-  acc.b.head<3>() += w * v;
-  acc.b.tail<3>() += w * s.cross(v);
+  const T Y00 = sy * X20 - sz * X10, Y01 = sy * X21 - sz * X11, Y02 = sy * X22 - sz * X12;
+  const T Y11 = sz * X01 - sx * X21, Y12 = sz * X02 - sx * X22;
+  const T Y22 = sx * X12 - sy * X02;
+  h[0] = W.xx, h[1] = W.xy, h[2] = W.xz, h[3] = -X00, h[4] = -X01, h[5] = -X02;
+  h[6] = W.yy, h[7] = W.yz, h[8] = -X10, h[9] = -X11, h[10] = -X12;
+  h[11] = W.zz, h[12] = -X20, h[13] = -X21, h[14] = -X22;
+  h[15] = -Y00, h[16] = -Y01, h[17] = -Y02;
+  h[18] = -Y11, h[19] = -Y12;
+  h[20] = -Y22;
+  g[0] = vx, g[1] = vy, g[2] = vz;
+  g[3] = sy * vz - sz * vy;
+  g[4] = sz * vx - sx * vz;
+  g[5] = sx * vy - sy * vx;
+}
+
+/// Adds w·JᵀR W RᵀJ to the upper triangle of acc.H and w·JᵀR·v to acc.b
+/// (quadratic_terms).
+inline void add_quadratic_sym(Linear6& acc, const Sym3<double>& W, const Eigen::Vector3d& s, double w,
+                              const Eigen::Vector3d& v) {
+  double h[21], g[6];
+  quadratic_terms(W, s.x(), s.y(), s.z(), v.x(), v.y(), v.z(), h, g);
+  int j = 0;
+  for (int row = 0; row < 6; ++row)
+    for (int col = row; col < 6; ++col, ++j) acc.H(row, col) += w * h[j];
+  for (int row = 0; row < 6; ++row) acc.b[row] += w * g[row];
 }
 
 /// Four doubles (GCC's vector extension): GICP's pairs are linearized four
@@ -146,10 +140,9 @@ inline void add_quadratic_sym(Linear6& acc, const Sym3& W, const Eigen::Vector3d
 using V4 = double __attribute__((vector_size(32)));
 
 /// GICP's pairs [b, e) of `pairs` at T (R, t), four per step, added to `a`:
-/// the cost and, unless `cost_only`, the upper triangle of H and b. Per
-/// pair as the scalar path of linearize (gicp_information, then
-/// add_quadratic_sym), each lane summed on its own and the lanes added in
-/// order at the end of the block. Pairs past e ride in the last lanes as
+/// the cost and, unless `cost_only`, the upper triangle of H and b
+/// (gicp_information and quadratic_terms in every lane), each lane summed
+/// on its own and the lanes added in order at the end of the block. Pairs past e ride in the last lanes as
 /// copies of pair e − 1 at weight zero.
 template <typename Kernel>
 [[gnu::always_inline]] inline void gicp_pairs_body(const PreparedCloud3D& target, const PreparedCloud3D& source,
@@ -198,28 +191,15 @@ template <typename Kernel>
     const V4 mx = r00 * nx + r10 * ny + r20 * nz;
     const V4 my = r01 * nx + r11 * ny + r21 * nz;
     const V4 mz = r02 * nx + r12 * ny + r22 * nz;
-    // W = (2I − c_s·aaᵀ − c_t·mmᵀ)⁻¹ by its adjugate (gicp_information).
-    const V4 s00 = 2.0 - cs * ax * ax - ct * mx * mx;
-    const V4 s01 = 0.0 - cs * ax * ay - ct * mx * my;
-    const V4 s02 = 0.0 - cs * ax * az - ct * mx * mz;
-    const V4 s11 = 2.0 - cs * ay * ay - ct * my * my;
-    const V4 s12 = 0.0 - cs * ay * az - ct * my * mz;
-    const V4 s22 = 2.0 - cs * az * az - ct * mz * mz;
-    const V4 w00 = s11 * s22 - s12 * s12;
-    const V4 w01 = s02 * s12 - s01 * s22;
-    const V4 w02 = s01 * s12 - s02 * s11;
-    const V4 inv = 1.0 / (s00 * w00 + s01 * w01 + s02 * w02);
-    const V4 Wxx = w00 * inv, Wxy = w01 * inv, Wxz = w02 * inv;
-    const V4 Wyy = (s00 * s22 - s02 * s02) * inv;
-    const V4 Wyz = (s01 * s02 - s00 * s12) * inv;
-    const V4 Wzz = (s00 * s11 - s01 * s01) * inv;
+    // W = (2I − c_s·aaᵀ − c_t·mmᵀ)⁻¹.
+    const Sym3<V4> W = gicp_information(ax, ay, az, cs, mx, my, mz, ct);
     // qs = Rᵀq and v = W·qs, in the source frame.
     const V4 ux = r00 * qx + r10 * qy + r20 * qz;
     const V4 uy = r01 * qx + r11 * qy + r21 * qz;
     const V4 uz = r02 * qx + r12 * qy + r22 * qz;
-    const V4 vx = Wxx * ux + Wxy * uy + Wxz * uz;
-    const V4 vy = Wxy * ux + Wyy * uy + Wyz * uz;
-    const V4 vz = Wxz * ux + Wyz * uy + Wzz * uz;
+    const V4 vx = W.xx * ux + W.xy * uy + W.xz * uz;
+    const V4 vy = W.xy * ux + W.yy * uy + W.yz * uz;
+    const V4 vz = W.xz * ux + W.yz * uy + W.zz * uz;
     const V4 m2 = ux * vx + uy * vy + uz * vz;
     V4 rho, w;
     for (std::size_t l = 0; l < kLanes; ++l) {
@@ -230,41 +210,11 @@ template <typename Kernel>
     cost += live * rho;
     if (cost_only) continue;
     w *= live;
-    // add_quadratic_sym, lane by lane: H += w[W, −WS; SW, −SWS],
-    // b += w(v, s × v).
-    const V4 X00 = sz * Wxy - sy * Wxz, X10 = sz * Wyy - sy * Wyz, X20 = sz * Wyz - sy * Wzz;
-    const V4 X01 = sx * Wxz - sz * Wxx, X11 = sx * Wyz - sz * Wxy, X21 = sx * Wzz - sz * Wxz;
-    const V4 X02 = sy * Wxx - sx * Wxy, X12 = sy * Wxy - sx * Wyy, X22 = sy * Wxz - sx * Wyz;
-    const V4 Y00 = sy * X20 - sz * X10, Y01 = sy * X21 - sz * X11, Y02 = sy * X22 - sz * X12;
-    const V4 Y11 = sz * X01 - sx * X21, Y12 = sz * X02 - sx * X22;
-    const V4 Y22 = sx * X12 - sy * X02;
-    H[0] += w * Wxx;
-    H[1] += w * Wxy;
-    H[2] += w * Wxz;
-    H[3] -= w * X00;
-    H[4] -= w * X01;
-    H[5] -= w * X02;
-    H[6] += w * Wyy;
-    H[7] += w * Wyz;
-    H[8] -= w * X10;
-    H[9] -= w * X11;
-    H[10] -= w * X12;
-    H[11] += w * Wzz;
-    H[12] -= w * X20;
-    H[13] -= w * X21;
-    H[14] -= w * X22;
-    H[15] -= w * Y00;
-    H[16] -= w * Y01;
-    H[17] -= w * Y02;
-    H[18] -= w * Y11;
-    H[19] -= w * Y12;
-    H[20] -= w * Y22;
-    g[0] += w * vx;
-    g[1] += w * vy;
-    g[2] += w * vz;
-    g[3] += w * (sy * vz - sz * vy);
-    g[4] += w * (sz * vx - sx * vz);
-    g[5] += w * (sx * vy - sy * vx);
+    // add_quadratic_sym, lane by lane.
+    V4 h[21], gt[6];
+    quadratic_terms(W, sx, sy, sz, vx, vy, vz, h, gt);
+    for (int j = 0; j < 21; ++j) H[j] += w * h[j];
+    for (int j = 0; j < 6; ++j) g[j] += w * gt[j];
   }
   const auto lanes = [](const V4& v) { return ((v[0] + v[1]) + v[2]) + v[3]; };
   a.cost += lanes(cost);
@@ -338,7 +288,7 @@ Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
         case Icp3dMethod::PointToPoint: {
           const auto kv = kernel.evaluate(q.squaredNorm());
           a.cost += kv.rho;
-          if (!cost_only) add_quadratic_sym(a, Sym3{1, 0, 0, 1, 0, 1}, s, kv.d1, Rt * q);
+          if (!cost_only) add_quadratic_sym(a, Sym3<double>{1, 0, 0, 1, 0, 1}, s, kv.d1, Rt * q);
           break;
         }
         case Icp3dMethod::PointToPlane: {
@@ -357,18 +307,8 @@ Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
           }
           break;
         }
-        case Icp3dMethod::Gicp: {
-          // (C_t + R C_s Rᵀ)⁻¹ = R (Rᵀ C_t R + C_s)⁻¹ Rᵀ: invert in the
-          // source frame.
-          const Sym3 W = gicp_information(source.gicp_axes()[pr.source], cs,
-                                          Rt * target.gicp_axes()[pr.target], ct);
-          const Eigen::Vector3d qs = Rt * q;
-          const Eigen::Vector3d Wq = W * qs;
-          const auto kv = kernel.evaluate(std::max(0.0, qs.dot(Wq)));
-          a.cost += kv.rho;
-          if (!cost_only) add_quadratic_sym(a, W, s, kv.d1, Wq);
-          break;
-        }
+        case Icp3dMethod::Gicp:
+          break;  // linearize_gicp_pairs, above
       }
     }
   });
