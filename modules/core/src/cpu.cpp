@@ -9,6 +9,9 @@ namespace {
 
 bool detect_avx2() noexcept {
 #if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
+  // Needed when the first call comes before the runtime's own
+  // initialization (from a static initializer); harmless after it.
+  __builtin_cpu_init();
   return __builtin_cpu_supports("avx2");
 #else
   return false;
