@@ -8,7 +8,7 @@ namespace rove {
 namespace {
 
 bool detect_avx2() noexcept {
-#if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
+#if ROVE_AVX2_KERNELS
   // Needed when the first call comes before the runtime's own
   // initialization (from a static initializer); harmless after it.
   __builtin_cpu_init();

@@ -7,15 +7,15 @@
 #include <limits>
 #include <utility>
 
+#include "rove/core/check.h"
+#include "rove/core/cpu.h"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ROVE_AVX2_KERNELS
 #include <immintrin.h>
 #endif
-
-#include "rove/core/check.h"
-#include "rove/core/cpu.h"
 
 namespace rove {
 
@@ -210,7 +210,7 @@ struct SmallKnnSet : KnnArrays<N, 16> {
   }
 };
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ROVE_AVX2_KERNELS
 /// SmallKnnSet in AVX2 groups of eight (N a multiple of 8), for processors
 /// that have it: the same entries after every insertion.
 template <std::size_t N>
@@ -573,7 +573,7 @@ struct KdTree<Dim, Scalar>::Impl {
   }
 };
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ROVE_AVX2_KERNELS
 /// The k nearest (k <= N) by a WideKnnSet, the whole search compiled for
 /// AVX2 (run and search are inlined here).
 template <std::size_t N, class Impl>
@@ -744,7 +744,7 @@ std::size_t KdTree<Dim, Scalar>::knn(const Point& q, std::size_t k, std::span<Re
       impl_->run(q.data(), set);
       return set.write(out.data(), impl_->source_of.data());
     };
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ROVE_AVX2_KERNELS
     if (k <= 16 && avx2_enabled()) {
       if (k <= 8) return wide_knn<8>(*impl_, q.data(), k, bound, out.data());
       return wide_knn<16>(*impl_, q.data(), k, bound, out.data());

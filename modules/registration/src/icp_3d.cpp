@@ -234,7 +234,7 @@ void gicp_pairs_baseline(const PreparedCloud3D& target, const PreparedCloud3D& s
   gicp_pairs_body(target, source, pairs, b, e, R, t, cs, ct, kernel, cost_only, a);
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ROVE_AVX2_KERNELS
 template <typename Kernel>
 __attribute__((target("avx2"))) void gicp_pairs_avx2(const PreparedCloud3D& target, const PreparedCloud3D& source,
                                                      const std::vector<Pair3>& pairs, std::size_t b, std::size_t e,
@@ -250,7 +250,7 @@ void linearize_gicp_pairs(const PreparedCloud3D& target, const PreparedCloud3D& 
                           const std::vector<Pair3>& pairs, std::size_t b, std::size_t e,
                           const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double cs, double ct,
                           const Kernel& kernel, bool cost_only, Linear6& a) {
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ROVE_AVX2_KERNELS
   if (avx2_enabled()) {
     gicp_pairs_avx2(target, source, pairs, b, e, R, t, cs, ct, kernel, cost_only, a);
     return;

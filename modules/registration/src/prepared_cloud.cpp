@@ -448,7 +448,7 @@ void eigenpairs_baseline(std::span<const Eigen::Matrix3d> C, std::span<double> e
   }
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ROVE_AVX2_KERNELS
 __attribute__((target("avx2"))) void eigenpairs_avx2(std::span<const Eigen::Matrix3d> C,
                                                      std::span<double> eigenvalues,
                                                      std::span<Eigen::Vector3d> eigenvectors,
@@ -465,7 +465,7 @@ void smallest_eigenpairs_psd(std::span<const Eigen::Matrix3d> C, std::span<doubl
                      found.size() == C.size(),
                  "{} matrices but {} eigenvalues, {} eigenvectors and {} flags", C.size(),
                  eigenvalues.size(), eigenvectors.size(), found.size());
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ROVE_AVX2_KERNELS
   if (avx2_enabled()) {
     eigenpairs_avx2(C, eigenvalues, eigenvectors, found);
     return;

@@ -12,6 +12,14 @@
 /// (ROVE_MAX_ISA=sse2 measures the baseline on an AVX2 machine). On other
 /// architectures and compilers only the portable versions exist.
 
+/// 1 where rove compiles its AVX2 kernels (x86-64 with GCC or Clang),
+/// else 0: the guard around every AVX2 kernel and its dispatch.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define ROVE_AVX2_KERNELS 1
+#else
+#define ROVE_AVX2_KERNELS 0
+#endif
+
 namespace rove {
 
 /// True when rove's AVX2 kernels run (see the file comment).
