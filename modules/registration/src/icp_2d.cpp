@@ -14,7 +14,7 @@
 #include "rove/core/check.h"
 #include "rove/core/error.h"
 #include "rove/poses/angle.h"
-#include "rove/registration/parallel.h"
+#include "rove/core/parallel.h"
 #include "rove/registration/pose_covariance.h"
 #include "rove/registration/rigid_transform.h"
 
@@ -259,7 +259,7 @@ void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, c
   const Eigen::Vector2d t = T.translation();
   if (out.last_partner.size() != n) out.last_partner.assign(n, Matching::kNone);
   std::uint32_t* last = out.last_partner.data();
-  if (threads <= 1 || n_sel <= detail::kReduceBlock) {
+  if (threads <= 1 || n_sel <= kReduceBlock) {
     // Serial: straight into out.pairs, whose capacity is reused across
     // iterations (no allocation once warm).
     std::vector<Neighbor<float>> nbrs;
@@ -275,7 +275,7 @@ void match(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source, c
         return *this;
       }
     };
-    Acc acc = detail::parallel_reduce(n_sel, threads, Acc{},
+    Acc acc = parallel_reduce(n_sel, threads, Acc{},
                                       [&](std::size_t b, std::size_t e, Acc& a) {
       std::vector<Neighbor<float>> nbrs;
       a.with_pair += match_range(target, source, c, s, t, pivot, thr, thr_ang, offset, decimation,
@@ -384,7 +384,7 @@ Normal3 accumulate(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
                    const std::vector<Pair2>& pairs, const Pose2& T, Icp2dMetric metric,
                    const Kernel& kernel, bool weighted, int threads) {
   const double c = std::cos(T.phi()), s = std::sin(T.phi());
-  return detail::parallel_reduce(pairs.size(), threads, Normal3{},
+  return parallel_reduce(pairs.size(), threads, Normal3{},
                                  [&](std::size_t b, std::size_t e, Normal3& a) {
     for (std::size_t k = b; k < e; ++k) {
       const Pair2& pr = pairs[k];

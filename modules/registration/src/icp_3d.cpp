@@ -10,7 +10,7 @@
 #include "rove/core/cpu.h"
 #include "rove/math/se3.h"
 #include "rove/registration/degeneracy.h"
-#include "rove/registration/parallel.h"
+#include "rove/core/parallel.h"
 #include "rove/registration/pose_covariance.h"
 
 namespace rove {
@@ -264,13 +264,13 @@ template <typename Kernel>
 Linear6 linearize(const PreparedCloud3D& target, const PreparedCloud3D& source,
                   const std::vector<Pair3>& pairs, const Eigen::Isometry3d& T,
                   Icp3dMethod method, const Kernel& kernel, bool cost_only,
-                  detail::ThreadTeam& team) {
+                  ThreadTeam& team) {
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Matrix3d Rt = R.transpose();
   const Eigen::Vector3d t = T.translation();
   const double cs = 1 - source.options().gicp_epsilon;
   const double ct = 1 - target.options().gicp_epsilon;
-  Linear6 sum = detail::parallel_reduce(pairs.size(), team, Linear6{},
+  Linear6 sum = parallel_reduce(pairs.size(), team, Linear6{},
                                  [&](std::size_t b, std::size_t e, Linear6& a) {
     // With J = ∂q/∂(ρ, ω) = [R, −R[s]×] and Rᵀ applied to the target side,
     // every product is taken in the source frame: for a symmetric W,
@@ -378,7 +378,7 @@ Walk certified_nearest(const PreparedCloud3D& target, const Eigen::Vector3f& q, 
 /// first call): the previous partner's distance bounds the search, which
 /// prunes most of the tree and finds the same nearest point.
 void find_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
-                const Eigen::Isometry3d& T, double max_dist, detail::ThreadTeam& team,
+                const Eigen::Isometry3d& T, double max_dist, ThreadTeam& team,
                 std::vector<std::int64_t>& slot, std::vector<Pair3>& pairs) {
   if (slot.size() != source.size()) slot.assign(source.size(), -1);
   const Eigen::Matrix3f R = T.linear().cast<float>();
@@ -393,7 +393,7 @@ void find_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
   struct Nothing {
     Nothing& operator+=(const Nothing&) { return *this; }
   };
-  detail::parallel_reduce(source.size(), team, Nothing{}, [&](std::size_t b, std::size_t e, Nothing&) {
+  parallel_reduce(source.size(), team, Nothing{}, [&](std::size_t b, std::size_t e, Nothing&) {
     // The partner of the previous query of the block: where a query without
     // a partner of its own (the first iteration) starts its walk.
     std::int64_t previous = -1;
@@ -473,7 +473,7 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
   std::vector<Pair3> pairs;
   bool converged = false, diverged = false, too_few = false;
   Linear6 lin;
-  detail::ThreadTeam team(o.num_threads);
+  ThreadTeam team(o.num_threads);
   o.kernel.visit([&](const auto& kernel) {
     double lambda = o.lm_initial_lambda;
     for (int it = 0; it < o.max_iterations; ++it) {
@@ -560,7 +560,7 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
           matched.push_back(pr.target);
         }
       fitted.assign(target.size(), Eigen::Vector3f::Zero());
-      detail::parallel_for(matched.size(), team, [&](std::size_t j) {
+      parallel_for(matched.size(), team, [&](std::size_t j) {
         const std::uint32_t ti = matched[j];
         local_surface_3d(target.tree(), target.points()[ti], o.normal_neighbors, 1e-3, &fitted[ti],
                          nullptr);

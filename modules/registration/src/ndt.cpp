@@ -20,7 +20,7 @@
 #include "rove/core/check.h"
 #include "rove/poses/angle.h"
 #include "rove/registration/degeneracy.h"
-#include "rove/registration/parallel.h"
+#include "rove/core/parallel.h"
 #include "rove/registration/pose_covariance.h"
 
 namespace rove {
@@ -462,12 +462,12 @@ struct Gauss {
 template <class M>
 Eval<M> evaluate(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float, M::D, 1>> source,
                  const typename M::Params& p, bool hessian, const Gauss& gc,
-                 detail::ThreadTeam& team) {
+                 ThreadTeam& team) {
   using Vec = typename M::Vec;
   using Mat = typename M::Mat;
   constexpr int D = M::D, A = M::A;
   const M model(p);
-  return detail::parallel_reduce(source.size(), team, Eval<M>{},
+  return parallel_reduce(source.size(), team, Eval<M>{},
                                  [&](std::size_t b, std::size_t e, Eval<M>& a) {
     std::array<Neighbor<double>, NdtGrid<D>::kMaxNear> near;
     Eigen::Matrix<double, D, A> Jr;
@@ -598,7 +598,7 @@ NdtRun<M> run_ndt(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float
                   double (*step_cos_angle)(const typename M::Params&)) {
   using Params = typename M::Params;
   NdtRun<M> run;
-  detail::ThreadTeam team(o.num_threads);
+  ThreadTeam team(o.num_threads);
   Eval<M> ev = evaluate<M>(grid, source, p, true, gc, team);
   while (true) {
     Eigen::JacobiSVD<Eigen::Matrix<double, M::P, M::P>> svd(ev.H, Eigen::ComputeFullU |

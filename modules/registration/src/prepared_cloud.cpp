@@ -9,7 +9,7 @@
 
 #include "rove/core/check.h"
 #include "rove/core/cpu.h"
-#include "rove/registration/parallel.h"
+#include "rove/core/parallel.h"
 
 namespace rove {
 
@@ -68,7 +68,7 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
     neighborhoods_.assign(points_.size() * k, Neighbor<float>{});
   }
   constexpr float kInf = std::numeric_limits<float>::infinity();
-  detail::parallel_reduce(order.size(), options.num_threads, Nothing{},
+  parallel_reduce(order.size(), options.num_threads, Nothing{},
                           [&](std::size_t begin, std::size_t end, Nothing&) {
     float reach = kInf;  // previous query's farthest neighbour, meters
     Eigen::Vector3f prev = Eigen::Vector3f::Zero();

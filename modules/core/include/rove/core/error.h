@@ -108,6 +108,13 @@ class ConfigError : public Error {
   std::string file_, section_, key_;
 };
 
+/// A request would exceed a stated resource limit (the memory budget, a
+/// thread cap, a file-size limit). The message names what asked for it.
+class ResourceError : public Error {
+ public:
+  using Error::Error;
+};
+
 namespace detail {
 /// Rethrows the exception in flight with one more frame. A rove::Error keeps
 /// its type; any other std::exception becomes a rove::Error that quotes it.

@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Deterministic block-parallel reduction used by the registration solvers.
+/// Threads for every rove module: one persistent team per solver run, and a
+/// deterministic block-parallel reduction over it.
 /// The index range is cut into fixed blocks whose size does not depend on the
 /// number of threads; each block is reduced on its own and the block results
 /// are summed in block order. So the result is bit-for-bit the same with 1 or
@@ -20,7 +21,19 @@
 #include <thread>
 #include <vector>
 
-namespace rove::detail {
+namespace rove {
+
+/// The most threads any rove algorithm starts. Requests above it are refused
+/// by resolve_thread_count (a typo such as --threads 100000 must not start
+/// tens of thousands of threads).
+inline constexpr int kMaxThreads = 256;
+
+/// The thread count to use for a request: `requested` itself when in
+/// [1, kMaxThreads]; 0 means "all hardware threads" (at least 1). Anything
+/// else throws rove::InvalidArgument naming `what` ("--threads",
+/// "[ICP] num_threads") and the accepted range.
+int resolve_thread_count(int requested, const char* what = "num_threads");
+
 
 /// Points per block: large enough to amortize the scheduling, small enough to
 /// balance 2 to 8 threads on clouds of a few thousand points.
@@ -173,4 +186,4 @@ void parallel_for(std::size_t n, int num_threads, Body&& body) {
   parallel_for(n, team, std::forward<Body>(body));
 }
 
-}  // namespace rove::detail
+}  // namespace rove
