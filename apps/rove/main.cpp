@@ -4,7 +4,10 @@
 #include <exception>
 
 #include "commands.h"
+#include "report.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
+#include "rove/core/interrupt.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"rove: localize, map and navigate mobile robots from real sensor data"};
@@ -19,16 +22,22 @@ int main(int argc, char** argv) {
   rove::cli::add_graph_slam_command(app);
   rove::cli::add_map_command(app);
   rove::cli::add_align_command(app);
+  rove::install_interrupt_handler();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const rove::cli::IssuesExit& e) {
+    return e.code;
+  } catch (const rove::Interrupted& e) {
+    fmt::print(stderr, "rove: {}\n", e.message());
+    return rove::cli::kExitInterrupted;
   } catch (const rove::Error& e) {
-    fmt::print(stderr, "rove: error: {}\n", e.message());
-    return 1;
+    fmt::print(stderr, "rove: error: {}\n", rove::printable(e.message()));
+    return rove::cli::kExitError;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "rove: error: {}\n", e.what());
-    return 1;
+    fmt::print(stderr, "rove: error: {}\n", rove::printable(e.what()));
+    return rove::cli::kExitError;
   }
-  return 0;
+  return rove::cli::kExitOk;
 }
