@@ -211,7 +211,7 @@ int run_map_convert(const MapConvertArgs& a) {
   std::vector<std::string> written;
   if (ends_with_ci(a.output, ".yaml")) {
     GridImageOptions o;
-    o.style = a.probability ? GridImageStyle::kProbability : GridImageStyle::kTrinary;
+    o.mode = a.probability ? RosMapMode::kScale : RosMapMode::kTrinary;
     o.format = a.pgm ? ImageFormat::kPgm : ImageFormat::kPng;
     const auto f = save_ros_map(a.output.substr(0, a.output.size() - 5), grid, o);
     written = {f.image, f.yaml};

@@ -1,6 +1,7 @@
 #include "rove/maps/gray_image.h"
 
 #include <png.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cctype>
@@ -13,6 +14,8 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
+#include "rove/core/memory_budget.h"
 
 namespace rove {
 namespace {
@@ -36,6 +39,10 @@ void check_declared_size(std::string_view source, std::uint64_t offset, std::uin
          fmt::format("declares {} x {} = {} pixels, above the limit of {}", w, h, w * h,
                      limits.max_pixels));
   }
+  // The decoded image takes a byte per pixel, and the grid made from it as
+  // much again: refuse before allocating what the machine cannot hold.
+  check_memory_budget(checked_bytes(w * h, 2),
+                      fmt::format("{}: {} \u00d7 {} pixels (the image and its grid)", source, w, h));
 }
 
 // ---------------------------------------------------------------- PNG ----
@@ -137,10 +144,23 @@ void png_write_callback(png_structp png, png_bytep data, std::size_t n) {
 }
 void png_flush_callback(png_structp) {}
 
-bool png_write_all(png_structp png, png_infop info, const GrayImage* image) {
+bool png_write_all(png_structp png, png_infop info, const GrayImage* image,
+                   const std::vector<png_color>* palette, bool fast) {
   if (setjmp(png_jmpbuf(png))) return false;
-  png_set_IHDR(png, info, image->width, image->height, 8, PNG_COLOR_TYPE_GRAY,
+  png_set_IHDR(png, info, image->width, image->height, 8,
+               palette->empty() ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_PALETTE,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  if (!palette->empty()) {
+    png_set_PLTE(png, info, palette->data(), static_cast<int>(palette->size()));
+  }
+  if (fast) {
+    // Maps and pictures are mostly one flat color: libpng's per-row filter
+    // search costs more than it saves there, and run-length deflate finds
+    // the long runs of background in a fraction of a match search's time.
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
+    png_set_compression_level(png, 1);
+    png_set_compression_strategy(png, Z_RLE);
+  }
   png_write_info(png, info);
   for (std::uint32_t y = 0; y < image->height; ++y) {
     png_write_row(png, const_cast<png_bytep>(image->pixels.data() +
@@ -369,12 +389,20 @@ GrayImage decode_gray_image(std::span<const std::uint8_t> data, std::string_view
 }
 
 GrayImage read_gray_image(const std::string& path, const ImageLimits& limits) {
-  const auto bytes = read_file_bytes(path);
+  const auto bytes = read_file_bytes(path, 0, "map image");
   return decode_gray_image(bytes, path, limits);
 }
 
-std::vector<std::uint8_t> encode_png(const GrayImage& image) {
+std::vector<std::uint8_t> encode_png(const GrayImage& image, const PngEncoding& encoding) {
   check_image(image);
+  ROVE_CHECK_LE(encoding.palette.size(), std::size_t{256});
+  std::vector<png_color> palette;
+  for (const auto& c : encoding.palette) palette.push_back({c.r, c.g, c.b});
+  if (!palette.empty()) {
+    const auto top = *std::max_element(image.pixels.begin(), image.pixels.end());
+    ROVE_CHECK_MSG(top < palette.size(), "pixel value {} is not an index into a palette of {} colors",
+                   top, palette.size());
+  }
   std::vector<std::uint8_t> bytes;
   PngOutput out{&bytes};
   char message[256] = {};
@@ -384,7 +412,7 @@ std::vector<std::uint8_t> encode_png(const GrayImage& image) {
   if (g.png != nullptr) g.info = png_create_info_struct(g.png);
   if (g.png == nullptr || g.info == nullptr) throw IoError("<png>", "cannot create the PNG encoder");
   png_set_write_fn(g.png, &out, png_write_callback, png_flush_callback);
-  if (!png_write_all(g.png, g.info, &image)) {
+  if (!png_write_all(g.png, g.info, &image, &palette, encoding.fast)) {
     throw IoError("<png>", fmt::format("PNG encoding failed: {}", message));
   }
   return bytes;
@@ -402,27 +430,20 @@ void write_gray_image(const std::string& path, const GrayImage& image, ImageForm
   write_file_bytes(path, format == ImageFormat::kPng ? encode_png(image) : encode_pgm(image));
 }
 
-std::vector<std::uint8_t> read_file_bytes(const std::string& path) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw IoError(path, "cannot open for reading");
-  std::vector<std::uint8_t> bytes;
-  std::uint8_t buf[65536];
-  for (;;) {
-    const std::size_t n = std::fread(buf, 1, sizeof buf, f.get());
-    bytes.insert(bytes.end(), buf, buf + n);
-    if (n < sizeof buf) break;
-  }
-  if (std::ferror(f.get())) throw IoError(path, "read failed");
-  return bytes;
+void write_png(const std::string& path, const GrayImage& image, const PngEncoding& encoding) {
+  write_file_bytes(path, encode_png(image, encoding));
+}
+
+std::vector<std::uint8_t> read_file_bytes(const std::string& path, std::uint64_t max_bytes,
+                                          std::string_view what) {
+  const std::string text =
+      read_input_file(path, max_bytes == 0 ? memory_budget_bytes() : max_bytes, what);
+  return std::vector<std::uint8_t>(text.begin(), text.end());
 }
 
 void write_file_bytes(const std::string& path, std::span<const std::uint8_t> bytes) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
-  if (!f) throw IoError(path, "cannot open for writing");
-  if (std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size() ||
-      std::fflush(f.get()) != 0) {
-    throw IoError(path, "write failed");
-  }
+  write_text_file_atomically(
+      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 }  // namespace rove

@@ -44,6 +44,7 @@ GrayImage grid_to_image(const OccupancyGrid& grid, const GridImageOptions& o) {
   ROVE_CHECK_MSG(o.free_thresh >= 0 && o.free_thresh <= o.occupied_thresh && o.occupied_thresh <= 1,
                  "thresholds must satisfy 0 <= free_thresh ({}) <= occupied_thresh ({}) <= 1",
                  o.free_thresh, o.occupied_thresh);
+  ROVE_CHECK_MSG(o.mode != RosMapMode::kRaw, "grid images are written in trinary or scale mode");
   const std::uint32_t w = grid.size_x(), h = grid.size_y();
   GrayImage img;
   img.width = w;
@@ -66,7 +67,7 @@ GrayImage grid_to_image(const OccupancyGrid& grid, const GridImageOptions& o) {
     const std::int8_t* cells = grid.cells().data() + static_cast<std::size_t>(cy) * w;
     for (std::uint32_t cx = 0; cx < w; ++cx) {
       const float p_free = lut.l2p(cells[cx]);
-      if (o.style == GridImageStyle::kProbability) {
+      if (o.mode == RosMapMode::kScale) {
         row[cx] = static_cast<std::uint8_t>(std::clamp(std::lround(255.0f * p_free), 0L, 255L));
       } else {
         const double occ = 1.0 - static_cast<double>(p_free);
@@ -143,6 +144,7 @@ RosMapFiles save_ros_map(const std::string& prefix, const OccupancyGrid& grid,
   y.origin = {grid.x_min(), grid.y_min(), 0.0};
   y.occupied_thresh = options.occupied_thresh;
   y.free_thresh = options.free_thresh;
+  y.mode = options.mode;
   const std::string text = format_ros_map_yaml(y);
   write_file_bytes(files.yaml, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
   return files;

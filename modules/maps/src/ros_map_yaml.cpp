@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "rove/core/error.h"
+#include "rove/core/files.h"
 #include "rove/maps/gray_image.h"
 
 namespace rove {
@@ -288,13 +289,9 @@ RosMapYaml parse_ros_map_yaml(std::string_view text, std::string_view source) {
 }
 
 RosMapYaml read_ros_map_yaml(const std::string& path) {
-  const auto bytes = read_file_bytes(path);
-  if (bytes.size() > (1u << 20)) {
-    throw ParseError({path, std::nullopt, std::nullopt, ""},
-                     fmt::format("{} bytes: too large for a map description", bytes.size()));
-  }
-  return parse_ros_map_yaml(
-      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
+  // A map description is a few lines; a megabyte is already absurd.
+  const std::string text = read_input_file(path, std::uint64_t{1} << 20, "map.yaml");
+  return parse_ros_map_yaml(text, path);
 }
 
 std::string format_ros_map_yaml(const RosMapYaml& y) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -447,7 +448,7 @@ TEST(GridImage, TrinaryPngAndPgmRoundTripKeepClassesAndGeometry) {
 TEST(GridImage, ProbabilityImageIsRoundedFreeProbability) {
   const OccupancyGrid g = random_grid(12);
   GridImageOptions o;
-  o.style = GridImageStyle::kProbability;
+  o.mode = RosMapMode::kScale;
   const GrayImage img = grid_to_image(g, o);
   for (std::uint32_t cy = 0; cy < g.size_y(); ++cy) {
     for (std::uint32_t cx = 0; cx < g.size_x(); ++cx) {
@@ -467,6 +468,82 @@ TEST(GridImage, ProbabilityImageIsRoundedFreeProbability) {
       ASSERT_EQ(class_of(h.free_probability(static_cast<int>(cx), static_cast<int>(cy))), want);
     }
   }
+}
+
+// Regression: icp-slam wrote 255·p(free) images with a yaml that did not
+// say so (map_server read them as trinary); the one grid writer now states
+// its mode, and map_server's scale rule reads the image back.
+TEST(GridImage, ScaleModeImageSaysModeScaleInItsYaml) {
+  const OccupancyGrid g = random_grid(21);
+  const fs::path dir = temp_dir("scale");
+  GridImageOptions o;
+  o.mode = RosMapMode::kScale;
+  const RosMapFiles files = save_ros_map((dir / "map").string(), g, o);
+  std::ifstream in(files.yaml);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("mode: scale\n"), std::string::npos) << text;
+  const RosMap m = load_ros_map(files.yaml);
+  EXPECT_EQ(m.yaml.mode, RosMapMode::kScale);
+  const GrayImage img = grid_to_image(g, o);
+  std::size_t between = 0;
+  for (std::uint32_t cy = 0; cy < g.size_y(); ++cy) {
+    for (std::uint32_t cx = 0; cx < g.size_x(); ++cx) {
+      const double occ = (255.0 - img.at(cx, g.size_y() - 1 - cy)) / 255.0;
+      const float back = m.grid.free_probability(static_cast<int>(cx), static_cast<int>(cy));
+      if (occ > 0.65) {
+        ASSERT_EQ(class_of(back), Cls::kOccupied);
+      } else if (occ < 0.196) {
+        ASSERT_EQ(class_of(back), Cls::kFree);
+      } else {
+        // map_server: an occupancy of 1 + 98·ratio percent.
+        const double percent = std::floor(1 + 98 * (occ - 0.196) / (0.65 - 0.196));
+        ASSERT_NEAR(back, 1.0 - percent / 100.0, 0.02) << cx << ", " << cy;  // int8 log-odds
+        ++between;
+      }
+    }
+  }
+  EXPECT_GT(between, 100u);
+}
+
+TEST(GridImage, RawModeIsNotWritten) {
+  GridImageOptions o;
+  o.mode = RosMapMode::kRaw;
+  EXPECT_THROW(grid_to_image(random_grid(22), o), InvalidArgument);
+}
+
+// The one PNG encoder also writes palette images (icp-slam's point picture).
+TEST(GrayImage, PalettePngDecodesToTheChannelAverage) {
+  GrayImage img{5, 3, std::vector<std::uint8_t>(15)};
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = static_cast<std::uint8_t>(i % 3);
+  PngEncoding e;
+  e.palette = {{255, 255, 255}, {40, 40, 40}, {220, 30, 30}};
+  for (bool fast : {false, true}) {
+    e.fast = fast;
+    const GrayImage back = decode_png(encode_png(img, e), "palette");
+    ASSERT_EQ(back.width, 5u);
+    ASSERT_EQ(back.height, 3u);
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+      const PaletteColor& c = e.palette[img.pixels[i]];
+      ASSERT_EQ(back.pixels[i], (c.r + c.g + c.b) / 3) << i;
+    }
+  }
+  img.pixels[7] = 3;  // not an index into the palette
+  EXPECT_THROW(encode_png(img, e), InvalidArgument);
+}
+
+// Regression: reading /dev/zero as a map image or a map.yaml grew without
+// bound; devices, FIFOs and directories are refused by name.
+TEST(GrayImage, DevZeroAsMapImageOrYamlIsRefused) {
+  for (const char* dev : {"/dev/zero", "/dev/urandom"}) {
+    try {
+      (void)read_gray_image(dev);
+      ADD_FAILURE() << dev;
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(dev), std::string::npos) << e.what();
+    }
+    EXPECT_THROW((void)read_ros_map_yaml(dev), IoError);
+  }
+  EXPECT_THROW((void)read_gray_image(fs::temp_directory_path().string()), IoError);
 }
 
 TEST(GridImage, UnusualThresholdsStillReadBackUnknown) {

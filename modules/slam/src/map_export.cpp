@@ -1,8 +1,5 @@
 #include "rove/slam/map_export.h"
 
-#include <png.h>
-#include <zlib.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,51 +11,11 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/maps/gray_image.h"
 #include "rove/maps/grid_image.h"
 
 namespace rove {
 namespace {
-
-// 8-bit PNG, rows top to bottom: one byte per pixel, gray or (with a
-// non-empty `palette`) an index into it.
-void write_png(const std::string& path, int width, int height,
-               const std::vector<std::uint8_t>& pixels, const std::vector<png_color>& palette) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
-  if (!f) throw IoError(path, "cannot open for writing");
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (png == nullptr || info == nullptr) {
-    png_destroy_write_struct(&png, &info);
-    throw IoError(path, "cannot create the PNG encoder");
-  }
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    throw IoError(path, "PNG encoding failed");
-  }
-  png_init_io(png, f.get());
-  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
-               palette.empty() ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  if (!palette.empty())
-    png_set_PLTE(png, info, palette.data(), static_cast<int>(palette.size()));
-  // The pictures are mostly one flat colour: no row filters and the fastest
-  // deflate level. Files grow (demo points.png 76 kB instead of 31 kB) but
-  // libpng's per-row filter search was half of the whole `rove icp-slam`
-  // run on the demo (callgrind); now it is a few percent.
-  // Run-length deflate (Z_RLE) finds the long runs of background in a
-  // fraction of the time of a match search.
-  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
-  png_set_compression_level(png, 1);
-  png_set_compression_strategy(png, Z_RLE);
-  png_write_info(png, info);
-  const std::size_t stride = static_cast<std::size_t>(width);
-  for (int y = 0; y < height; ++y) {
-    png_write_row(png, const_cast<png_bytep>(pixels.data() + stride * static_cast<std::size_t>(y)));
-  }
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  if (std::fflush(f.get()) != 0) throw IoError(path, "write failed");
-}
 
 void check_stream(const std::ofstream& out, const std::string& path) {
   if (!out) throw IoError(path, "write failed");
@@ -94,7 +51,7 @@ void write_ply(const std::string& path, const PointCloud& cloud) {
 GridMapFiles write_grid_map(const std::string& prefix, const OccupancyGrid& grid) {
   ROVE_CHECK_MSG(grid.size_x() > 0 && grid.size_y() > 0, "the grid has no cells");
   GridImageOptions options;
-  options.style = GridImageStyle::kProbability;
+  options.mode = RosMapMode::kScale;
   const RosMapFiles files = save_ros_map(prefix, grid, options);
   return {files.image, files.yaml};
 }
@@ -128,10 +85,14 @@ void render_points_png(const std::string& path, const PointCloud& cloud,
   // deflate and its checksums to go through (on the demo the RGB picture's
   // encoding was 14 % of the whole `rove icp-slam` run).
   enum : std::uint8_t { kBackground, kPoint, kPath, kStart, kEnd };
-  const std::vector<png_color> palette = {
-      {255, 255, 255}, {40, 40, 40}, {220, 30, 30}, {0, 170, 0}, {0, 0, 220}};
-  std::vector<std::uint8_t> px(static_cast<std::size_t>(w) * static_cast<std::size_t>(h),
-                               kBackground);
+  PngEncoding encoding;
+  encoding.palette = {{255, 255, 255}, {40, 40, 40}, {220, 30, 30}, {0, 170, 0}, {0, 0, 220}};
+  encoding.fast = true;  // libpng's filter search was half of a `rove icp-slam` demo run
+  GrayImage image;
+  image.width = static_cast<std::uint32_t>(w);
+  image.height = static_cast<std::uint32_t>(h);
+  image.pixels.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kBackground);
+  std::vector<std::uint8_t>& px = image.pixels;
   const auto put = [&](double x, double y, std::uint8_t colour, int radius) {
     if (!std::isfinite(x) || !std::isfinite(y)) return;
     const int cx = static_cast<int>((x - x0) / res);
@@ -159,7 +120,7 @@ void render_points_png(const std::string& path, const PointCloud& cloud,
     put(robot_path.front().x(), robot_path.front().y(), kStart, 3);
     put(robot_path.back().x(), robot_path.back().y(), kEnd, 3);
   }
-  write_png(path, w, h, px, palette);
+  write_png(path, image, encoding);
 }
 
 }  // namespace rove

@@ -68,19 +68,46 @@ GrayImage decode_gray_image(std::span<const std::uint8_t> data, std::string_view
 /// it cannot be read, ParseError if it is malformed.
 GrayImage read_gray_image(const std::string& path, const ImageLimits& limits = {});
 
-/// Encodes as an 8-bit gray PNG (libpng's default compression and filters,
-/// no ancillary chunks). Precondition (InvalidArgument): width, height > 0
-/// and pixels.size() == width·height.
-std::vector<std::uint8_t> encode_png(const GrayImage& image);
+/// An RGB color of a PNG palette.
+struct PaletteColor {
+  std::uint8_t r = 0, g = 0, b = 0;
+  friend bool operator==(const PaletteColor&, const PaletteColor&) = default;
+};
+
+/// How encode_png writes an image.
+struct PngEncoding {
+  /// Empty: the pixels are gray values. Otherwise (1 to 256 colors) the
+  /// pixels are indices into this palette (an 8-bit palette PNG).
+  std::vector<PaletteColor> palette;
+  /// false: libpng's default filters and compression (smallest files).
+  /// true: no row filters and run-length deflate at level 1, several times
+  /// faster on pictures that are mostly one flat color, for larger files.
+  bool fast = false;
+};
+
+/// Encodes as an 8-bit gray (or palette) PNG, no ancillary chunks.
+/// Preconditions (InvalidArgument): width, height > 0, pixels.size() ==
+/// width·height, at most 256 palette colors and every pixel a valid index
+/// into a non-empty palette.
+std::vector<std::uint8_t> encode_png(const GrayImage& image, const PngEncoding& encoding = {});
 /// Encodes as PGM `P5`, maxval 255, header `P5\n<w> <h>\n255\n`. Same
 /// preconditions as encode_png.
 std::vector<std::uint8_t> encode_pgm(const GrayImage& image);
-/// Writes `image` to `path` in `format`. Throws IoError if it cannot be written.
+/// Writes `image` to `path` in `format`, atomically (rove/core/files.h: a
+/// temporary sibling renamed over `path` when complete). Throws IoError if it
+/// cannot be written.
 void write_gray_image(const std::string& path, const GrayImage& image, ImageFormat format);
+/// Writes `image` as a PNG encoded with `encoding`, atomically. Throws IoError.
+void write_png(const std::string& path, const GrayImage& image, const PngEncoding& encoding);
 
-/// Reads a whole file into memory. Throws IoError naming the path.
-std::vector<std::uint8_t> read_file_bytes(const std::string& path);
-/// Writes bytes to a file (created or truncated). Throws IoError naming the path.
+/// Reads a whole input file into memory: a regular file (a directory, a
+/// device or a FIFO is refused) of at most `max_bytes` (the memory budget by
+/// default); `what` names the file's role in messages. Throws IoError naming
+/// the path.
+std::vector<std::uint8_t> read_file_bytes(const std::string& path, std::uint64_t max_bytes = 0,
+                                          std::string_view what = "input file");
+/// Writes bytes to a file atomically (rove/core/files.h). Throws IoError
+/// naming the path.
 void write_file_bytes(const std::string& path, std::span<const std::uint8_t> bytes);
 
 }  // namespace rove

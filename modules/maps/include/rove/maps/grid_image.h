@@ -21,11 +21,14 @@
 /// percentages q the free probability 1 − q/100, each stored in the grid's
 /// log-odds cells (so values round to the nearest cell value).
 ///
-/// Writing: map_saver's trinary image (occupied 0, free 254, unknown 205,
-/// by the occupancy of each cell against the thresholds, 0.65 and 0.196 by
-/// default, which the yaml repeats so that map_server reads back the same
-/// classes), or the full-probability image 255·p(free) (white free, black
-/// occupied, 128 unknown) with the same yaml.
+/// Writing (one writer, its mode stated in the yaml as map_server's `mode`):
+///  - trinary: map_saver's image (occupied 0, free 254, unknown 205, by the
+///    occupancy of each cell against the thresholds, 0.65 and 0.196 by
+///    default, which the yaml repeats so that map_server reads back the same
+///    classes);
+///  - scale: the full probability, gray 255·p(free) (white free, black
+///    occupied, 128 unknown), with `mode: scale` in the yaml so that
+///    map_server reads the cells between the thresholds as percentages.
 
 #include <string>
 
@@ -35,15 +38,13 @@
 
 namespace rove {
 
-/// How grid cells become gray values.
-enum class GridImageStyle : unsigned char {
-  kTrinary,      ///< map_saver: 0 occupied, 254 free, 205 unknown
-  kProbability,  ///< round(255·p(free)): the whole probability, in 256 levels
-};
-
 /// Options of grid_to_image / save_ros_map.
 struct GridImageOptions {
-  GridImageStyle style = GridImageStyle::kTrinary;
+  /// How cells become gray values, written to the yaml as `mode`:
+  /// kTrinary (map_saver: 0 occupied, 254 free, 205 unknown) or kScale
+  /// (round(255·p(free)), the whole probability in 256 levels). kRaw is not
+  /// written (InvalidArgument).
+  RosMapMode mode = RosMapMode::kTrinary;
   /// Occupancy above this is occupied (written to the yaml too).
   double occupied_thresh = 0.65;
   /// Occupancy below this is free (written to the yaml too).
@@ -53,7 +54,8 @@ struct GridImageOptions {
 };
 
 /// The image of a grid (row 0 = largest y). Precondition (InvalidArgument):
-/// the grid has cells, 0 ≤ free_thresh ≤ occupied_thresh ≤ 1.
+/// the grid has cells, 0 ≤ free_thresh ≤ occupied_thresh ≤ 1, mode trinary
+/// or scale.
 GrayImage grid_to_image(const OccupancyGrid& grid, const GridImageOptions& options = {});
 
 /// The grid an image describes under the yaml's interpretation (negate,
@@ -70,8 +72,9 @@ struct RosMapFiles {
   std::string image;  ///< the image it names
 };
 
-/// Writes `<prefix>.png` (or `.pgm`) and `<prefix>.yaml`, the yaml naming
-/// the image by its file name (relative to the yaml's folder). Throws
+/// The grid writer of rove: writes `<prefix>.png` (or `.pgm`) and
+/// `<prefix>.yaml`, the yaml naming the image by its file name (relative to
+/// the yaml's folder) and stating the mode, each file atomically. Throws
 /// IoError if a file cannot be written.
 RosMapFiles save_ros_map(const std::string& prefix, const OccupancyGrid& grid,
                          const GridImageOptions& options = {});
