@@ -2,6 +2,8 @@
 #include <fmt/format.h>
 
 #include <exception>
+#include <string>
+#include <string_view>
 
 #include "commands.h"
 #include "report.h"
@@ -9,8 +11,56 @@
 #include "rove/core/files.h"
 #include "rove/core/interrupt.h"
 
+namespace {
+
+// Prints a message whose text may come from a file or an argument: each line
+// made printable (no raw control bytes or invalid UTF-8 reach the terminal).
+void print_error(std::string_view prefix, std::string_view message) {
+  std::size_t start = 0;
+  bool first = true;
+  while (start <= message.size()) {
+    const std::size_t end = std::min(message.find('\n', start), message.size());
+    const std::string line = rove::printable(message.substr(start, end - start));
+    fmt::print(stderr, "{}{}\n", first ? prefix : std::string_view("  "), line);
+    first = false;
+    start = end + 1;
+  }
+}
+
+// The deepest subcommand the command line reached ("rove rawlog cut").
+std::string command_path(const CLI::App& app) {
+  std::string path = "rove";
+  const CLI::App* at = &app;
+  while (true) {
+    const auto subs = at->get_subcommands();
+    if (subs.empty()) break;
+    at = subs.front();
+    path += " " + at->get_name();
+  }
+  return path;
+}
+
+// "rove frobnicate": name the unknown command and list the known ones,
+// instead of CLI11's "A subcommand is required".
+bool unknown_command(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2) return false;
+  const std::string_view first = argv[1];
+  if (first.empty() || first.front() == '-') return false;
+  std::string known;
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    if (sub->get_name() == first) return false;
+    known += (known.empty() ? "" : ", ") + sub->get_name();
+  }
+  fmt::print(stderr, "rove: unknown command '{}' (commands: {}); see rove --help\n",
+             rove::printable(first), known);
+  return true;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"rove: localize, map and navigate mobile robots from real sensor data"};
+  app.name("rove");
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("rove ") + ROVE_VERSION);
   auto* version = app.add_subcommand("version", "Print rove's version");
@@ -23,20 +73,30 @@ int main(int argc, char** argv) {
   rove::cli::add_map_command(app);
   rove::cli::add_align_command(app);
   rove::install_interrupt_handler();
+  if (argc < 2) {
+    fmt::print(stderr, "{}", app.help());
+    return rove::cli::kExitUsage;
+  }
+  if (unknown_command(app, argc, argv)) return rove::cli::kExitUsage;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version are "errors" that exit 0: let CLI11 print them.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    const std::string where = command_path(app);
+    print_error("rove: usage error: ", e.what());
+    fmt::print(stderr, "  see {} --help\n", where);
+    return rove::cli::kExitUsage;
   } catch (const rove::cli::IssuesExit& e) {
     return e.code;
   } catch (const rove::Interrupted& e) {
     fmt::print(stderr, "rove: {}\n", e.message());
     return rove::cli::kExitInterrupted;
   } catch (const rove::Error& e) {
-    fmt::print(stderr, "rove: error: {}\n", rove::printable(e.message()));
+    print_error("rove: error: ", e.message());
     return rove::cli::kExitError;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "rove: error: {}\n", rove::printable(e.what()));
+    print_error("rove: error: ", e.what());
     return rove::cli::kExitError;
   }
   return rove::cli::kExitOk;

@@ -72,6 +72,20 @@ bool same_file(const Identity& a, const Identity& b) {
   return a.normal == b.normal;
 }
 
+// Refuses an output whose folder is missing or which is itself a directory.
+void check_output_location(const fs::path& path) {
+  if (path.empty()) throw IoError("", "empty output path");
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    throw IoError(printable(path.string()),
+                  fmt::format("cannot write: folder '{}' does not exist", printable(dir.string())));
+  }
+  if (fs::is_directory(path, ec)) {
+    throw IoError(printable(path.string()), "cannot write: it is a directory");
+  }
+}
+
 }  // namespace
 
 std::string printable(std::string_view text) {
@@ -118,17 +132,9 @@ fs::path temporary_sibling(const fs::path& path) {
 
 void write_file_atomically(const fs::path& path,
                            const std::function<void(const fs::path& tmp)>& write) {
-  if (path.empty()) throw IoError("", "empty output path");
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) {
-    throw IoError(printable(path.string()),
-                  fmt::format("cannot write: folder '{}' does not exist", printable(dir.string())));
-  }
-  if (fs::is_directory(path, ec)) {
-    throw IoError(printable(path.string()), "cannot write: it is a directory");
-  }
+  check_output_location(path);
   const fs::path tmp = temporary_sibling(path);
+  std::error_code ec;
   try {
     write(tmp);
     if (!fs::exists(tmp, ec)) {
@@ -148,10 +154,7 @@ void write_text_file_atomically(const fs::path& path, std::string_view bytes) {
 }
 
 AtomicOutputFile::AtomicOutputFile(fs::path path) : path_(std::move(path)) {
-  std::error_code ec;
-  if (fs::is_directory(path_, ec)) {
-    throw IoError(printable(path_.string()), "cannot write: it is a directory");
-  }
+  check_output_location(path_);
   tmp_ = temporary_sibling(path_);
   file_ = create_exclusive(tmp_);
   if (file_ == nullptr) {
