@@ -6,7 +6,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,8 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
+#include "rove/core/memory_budget.h"
 #include "rove/graph/initialization.h"
 #include "rove/serialization/archive.h"
 #include "rove/serialization/file_stream.h"
@@ -229,8 +233,14 @@ void add_equiv(std::map<VertexId, VertexId>& parent, VertexId a, VertexId b) {
 }
 
 template <class PoseT>
-PoseGraph<PoseT> parse_text(std::string_view text, std::string_view source) {
+PoseGraph<PoseT> parse_text(std::string_view text, std::string_view source,
+                            const GraphReadOptions& options, GraphReadReport* report_out) {
   constexpr bool k3d = PoseT::kDof == 6;
+  GraphReadReport report;
+  // Edges whose information matrix is not positive definite: counted over
+  // the whole file, so the error can say how many there are.
+  std::size_t bad_information = 0;
+  std::optional<std::pair<std::size_t, std::string>> first_bad_information;
   PoseGraph<PoseT> graph;
   std::vector<std::pair<VertexId, PoseT>> vertex_poses;
   std::vector<VertexRecord> vertex_records;
@@ -348,7 +358,21 @@ PoseGraph<PoseT> parse_text(std::string_view text, std::string_view source) {
             }
           }
         }
-        if (auto problem = information_problem<PoseT::kDof>(info)) r.fail("information", *problem);
+        ++report.edges;
+        if (auto problem = information_problem<PoseT::kDof>(info)) {
+          ++bad_information;
+          if (!first_bad_information) {
+            first_bad_information.emplace(
+                line_no, fmt::format("edge {} -> {}: {}", rec.edge.from, rec.edge.to, *problem));
+          }
+          if (options.repair_information == InformationRepair::None) break;
+          info = nearest_positive_definite<PoseT::kDof>(info, options.repair_floor);
+          if (auto still = information_problem<PoseT::kDof>(info)) {
+            r.fail("information", fmt::format("{} even after the nearest-psd repair", *still));
+          }
+          ++report.repaired_edges;
+          if (!report.first_repaired_line) report.first_repaired_line = line_no;
+        }
         edge_records.push_back(std::move(rec));
         break;
       }
@@ -358,6 +382,14 @@ PoseGraph<PoseT> parse_text(std::string_view text, std::string_view source) {
   auto fail_at = [&](std::size_t line, std::string_view field, const std::string& problem) {
     throw ParseError({std::string(source), line, std::nullopt, std::string(field)}, problem);
   };
+  if (bad_information > 0 && options.repair_information == InformationRepair::None) {
+    fail_at(first_bad_information->first, "information",
+            fmt::format("{}; {} of {} edges have an information matrix that is not positive "
+                        "definite (the repair option GraphReadOptions::repair_information, "
+                        "--repair-information nearest-psd on the command line, replaces each "
+                        "by the nearest positive definite matrix)",
+                        first_bad_information->second, bad_information, report.edges));
+  }
   auto mapped = [&](VertexId id) { return equiv.empty() ? id : find_root(equiv, id); };
 
   // Vertices (a duplicated id is an error even when EQUIV maps it elsewhere).
@@ -375,13 +407,12 @@ PoseGraph<PoseT> parse_text(std::string_view text, std::string_view source) {
     }
   }
   const bool from_odometry = vertex_records.empty();
-  std::size_t dropped = 0;
   for (auto& rec : edge_records) {
     const VertexId raw_from = rec.edge.from, raw_to = rec.edge.to;
     rec.edge.from = mapped(raw_from);
     rec.edge.to = mapped(raw_to);
     if (rec.edge.from == rec.edge.to) {
-      ++dropped;  // merged by EQUIV
+      ++report.merged_edges_dropped;  // merged by EQUIV
       continue;
     }
     for (const VertexId id : {rec.edge.from, rec.edge.to}) {
@@ -397,7 +428,6 @@ PoseGraph<PoseT> parse_text(std::string_view text, std::string_view source) {
     }
     graph.add_edge(rec.edge);
   }
-  (void)dropped;
   for (const auto& [raw, line] : fix_records) {
     const VertexId id = mapped(raw);
     if (!graph.has_vertex(id)) {
@@ -405,7 +435,11 @@ PoseGraph<PoseT> parse_text(std::string_view text, std::string_view source) {
     }
     graph.set_fixed(id, true);
   }
-  if (from_odometry && graph.num_edges() > 0) initialize_odometry(graph);
+  if (from_odometry && graph.num_edges() > 0) {
+    initialize_odometry(graph);
+    report.built_from_odometry = true;
+  }
+  if (report_out) *report_out = report;
   return graph;
 }
 
@@ -527,13 +561,26 @@ std::string format_3d(const PoseGraph3D& graph, GraphFileFormat format) {
 // ---------------------------------------------------------------------------
 // Binary
 
-std::vector<std::byte> read_all(const std::string& path) {
+// The whole (decompressed) file, refusing what is not a regular file and
+// stopping at max_bytes: /dev/zero or a gzip bomb must not grow without end.
+std::vector<std::byte> read_all(const std::string& path, std::uint64_t max_bytes) {
+  check_regular_input(path, "graph");
   auto in = open_input_file(path);
   std::vector<std::byte> data;
   std::byte buf[1 << 16];
   for (;;) {
     const std::size_t n = in->read_some(buf);
     if (n == 0) break;
+    if (data.size() + n > max_bytes) {
+      throw IoError(path, fmt::format("the graph is larger than the {} limit of the reader "
+                                      "(GraphReadOptions::max_bytes)",
+                                      format_bytes(max_bytes)));
+    }
+    if (data.size() + n > data.capacity()) {
+      const std::uint64_t next = std::max<std::uint64_t>(2 * data.capacity(), data.size() + n);
+      check_memory_budget(next, fmt::format("graph file {}", printable(path)));
+      data.reserve(static_cast<std::size_t>(next));
+    }
     data.insert(data.end(), buf, buf + n);
   }
   return data;
@@ -675,17 +722,22 @@ void load_graph(InArchive& ar, PoseGraph<PoseT>& graph) {
 }
 
 template <class PoseT>
-PoseGraph<PoseT> read_graph(const std::string& path) {
-  const std::vector<std::byte> data = read_all(path);
+PoseGraph<PoseT> read_graph(const std::string& path, const GraphReadOptions& options,
+                            GraphReadReport* report) {
+  const std::vector<std::byte> data = read_all(path, options.max_bytes);
   if (has_binary_magic(data)) {
     MemoryInStream stream(std::span<const std::byte>(data), path);
     InArchive ar(stream);
     PoseGraph<PoseT> graph;
     load_graph(ar, graph);
+    if (report) {
+      *report = GraphReadReport{};
+      report->edges = graph.num_edges();
+    }
     return graph;
   }
   const std::string_view text(reinterpret_cast<const char*>(data.data()), data.size());
-  return parse_text<PoseT>(text, path);
+  return parse_text<PoseT>(text, path, options, report);
 }
 
 GraphFileFormat format_for_path(const std::string& path, GraphFileFormat format) {
@@ -704,22 +756,21 @@ void write_graph_impl(const PoseGraph<PoseT>& graph, const std::string& path,
                       GraphFileFormat format) {
   format = format_for_path(path, format);
   if (format == GraphFileFormat::Binary) {
-    GzipFileOutStream out(path);
-    OutArchive ar(out);
-    save_graph(ar, graph);
-    out.close();
+    write_file_atomically(path, [&](const std::filesystem::path& tmp) {
+      GzipFileOutStream out(tmp.string());
+      OutArchive ar(out);
+      save_graph(ar, graph);
+      out.close();
+    });
     return;
   }
-  const std::string text = format_graph(graph, format);
-  FileOutStream out(path);
-  out.write(std::as_bytes(std::span<const char>(text.data(), text.size())));
-  out.close();
+  write_text_file_atomically(path, format_graph(graph, format));
 }
 
 }  // namespace
 
-GraphDimension detect_graph_dimension(const std::string& path) {
-  const std::vector<std::byte> data = read_all(path);
+GraphDimension detect_graph_dimension(const std::string& path, std::uint64_t max_bytes) {
+  const std::vector<std::byte> data = read_all(path, max_bytes);
   if (has_binary_magic(data)) {
     const std::size_t at = sizeof(kBinaryMagic) + 1;
     if (data.size() <= at) return GraphDimension::Unknown;
@@ -743,14 +794,36 @@ GraphDimension detect_graph_dimension(const std::string& path) {
   return GraphDimension::Unknown;
 }
 
-PoseGraph2D read_graph_2d(const std::string& path) { return read_graph<SE2d>(path); }
-PoseGraph3D read_graph_3d(const std::string& path) { return read_graph<SE3d>(path); }
-
-PoseGraph2D parse_graph_2d(std::string_view text, std::string_view source) {
-  return parse_text<SE2d>(text, source);
+PoseGraph2D read_graph_2d(const std::string& path, const GraphReadOptions& options,
+                          GraphReadReport* report) {
+  return read_graph<SE2d>(path, options, report);
 }
-PoseGraph3D parse_graph_3d(std::string_view text, std::string_view source) {
-  return parse_text<SE3d>(text, source);
+PoseGraph3D read_graph_3d(const std::string& path, const GraphReadOptions& options,
+                          GraphReadReport* report) {
+  return read_graph<SE3d>(path, options, report);
+}
+
+PoseGraph2D parse_graph_2d(std::string_view text, std::string_view source,
+                           const GraphReadOptions& options, GraphReadReport* report) {
+  return parse_text<SE2d>(text, source, options, report);
+}
+PoseGraph3D parse_graph_3d(std::string_view text, std::string_view source,
+                           const GraphReadOptions& options, GraphReadReport* report) {
+  return parse_text<SE3d>(text, source, options, report);
+}
+
+std::string_view to_string(InformationRepair repair) {
+  switch (repair) {
+    case InformationRepair::None: return "none";
+    case InformationRepair::NearestPsd: return "nearest-psd";
+  }
+  return "?";
+}
+
+std::optional<InformationRepair> parse_information_repair(std::string_view text) {
+  if (text == "none") return InformationRepair::None;
+  if (text == "nearest-psd") return InformationRepair::NearestPsd;
+  return std::nullopt;
 }
 
 std::string format_graph(const PoseGraph2D& graph, GraphFileFormat format) {

@@ -12,6 +12,7 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/graph/optimizer.h"
 
 namespace rove {
 namespace {
@@ -140,6 +141,7 @@ std::string_view to_string(InitialGuess guess) {
     case InitialGuess::Odometry: return "odometry";
     case InitialGuess::SpanningTree: return "spanning-tree";
     case InitialGuess::Chordal: return "chordal";
+    case InitialGuess::Auto: return "auto";
   }
   return "?";
 }
@@ -149,8 +151,9 @@ InitialGuess parse_initial_guess(std::string_view text) {
   if (text == "odometry") return InitialGuess::Odometry;
   if (text == "spanning-tree" || text == "dijkstra") return InitialGuess::SpanningTree;
   if (text == "chordal") return InitialGuess::Chordal;
-  ROVE_CHECK_MSG(false, "unknown initial guess '{}' (expected as-is, odometry, spanning-tree or "
-                        "chordal)", text);
+  if (text == "auto") return InitialGuess::Auto;
+  ROVE_CHECK_MSG(false, "unknown initial guess '{}' (expected auto, as-is, odometry, "
+                        "spanning-tree or chordal)", text);
   return InitialGuess::AsIs;
 }
 
@@ -358,8 +361,49 @@ std::size_t initialize(PoseGraph<PoseT>& graph, InitialGuess guess, int level) {
     case InitialGuess::Odometry: return initialize_odometry(graph);
     case InitialGuess::SpanningTree: return initialize_spanning_tree(graph, level);
     case InitialGuess::Chordal: return initialize_chordal(graph, level);
+    case InitialGuess::Auto: return initialize_best(graph, guess, level).vertices_placed;
   }
   return 0;
+}
+
+template <class PoseT>
+InitialGuessChoice initialize_best(PoseGraph<PoseT>& graph, InitialGuess guess, int level) {
+  InitialGuessChoice choice;
+  choice.requested = guess;
+  if (guess != InitialGuess::Auto) {
+    choice.used = guess;
+    choice.vertices_placed = initialize(graph, guess, level);
+    choice.chi2 = compute_chi2(graph, level);
+    return choice;
+  }
+  const double as_is = compute_chi2(graph, level);
+  choice.as_is_chi2 = as_is;
+  PoseGraph<PoseT> chordal = graph;
+  std::size_t placed = 0;
+  try {
+    placed = initialize_chordal(chordal, level);
+  } catch (const NumericError& e) {
+    choice.used = InitialGuess::AsIs;
+    choice.chi2 = as_is;
+    choice.note = fmt::format("stored poses kept: the chordal relaxation failed ({})", e.what());
+    return choice;
+  }
+  const double c = compute_chi2(chordal, level);
+  choice.chordal_chi2 = c;
+  // NaN compares false: a NaN at the stored poses picks the chordal guess.
+  if (!(as_is < c)) {
+    graph = std::move(chordal);
+    choice.used = InitialGuess::Chordal;
+    choice.vertices_placed = placed;
+    choice.chi2 = c;
+    choice.note = fmt::format("chordal: χ² {:.6g} at the chordal guess vs {:.6g} at the stored poses",
+                              c, as_is);
+  } else {
+    choice.used = InitialGuess::AsIs;
+    choice.chi2 = as_is;
+    choice.note = fmt::format("stored poses: χ² {:.6g} vs {:.6g} at the chordal guess", as_is, c);
+  }
+  return choice;
 }
 
 template std::size_t initialize_odometry(PoseGraph2D&);
@@ -370,5 +414,7 @@ template std::size_t initialize_chordal(PoseGraph2D&, int);
 template std::size_t initialize_chordal(PoseGraph3D&, int);
 template std::size_t initialize(PoseGraph2D&, InitialGuess, int);
 template std::size_t initialize(PoseGraph3D&, InitialGuess, int);
+template InitialGuessChoice initialize_best(PoseGraph2D&, InitialGuess, int);
+template InitialGuessChoice initialize_best(PoseGraph3D&, InitialGuess, int);
 
 }  // namespace rove

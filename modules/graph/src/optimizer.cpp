@@ -6,7 +6,6 @@
 #include <limits>
 #include <memory>
 #include <numeric>
-#include <thread>
 #include <unordered_map>
 
 #include <Eigen/Cholesky>
@@ -16,6 +15,8 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/interrupt.h"
+#include "rove/core/parallel.h"
 #include "rove/core/timer.h"
 #include "rove/graph/edge_error.h"
 #include "sparse_cholesky.h"
@@ -23,26 +24,6 @@
 namespace rove {
 
 namespace {
-
-// Runs f(begin, end) over [0, n) split into `threads` contiguous chunks.
-template <class F>
-void parallel_for(int threads, std::size_t n, F&& f) {
-  const std::size_t t = std::min<std::size_t>(static_cast<std::size_t>(std::max(threads, 1)),
-                                              std::max<std::size_t>(n / 64, 1));
-  if (t <= 1) {
-    f(std::size_t{0}, n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  pool.reserve(t - 1);
-  const std::size_t chunk = (n + t - 1) / t;
-  for (std::size_t k = 1; k < t; ++k) {
-    const std::size_t b = k * chunk, e = std::min(n, b + chunk);
-    if (b < e) pool.emplace_back([&f, b, e] { f(b, e); });
-  }
-  f(std::size_t{0}, std::min(n, chunk));
-  for (auto& th : pool) th.join();
-}
 
 std::string vertex_list(const std::vector<VertexId>& ids, std::size_t max_shown = 10) {
   std::string s;
@@ -66,8 +47,8 @@ class Engine {
   using Vec = Eigen::Matrix<double, D, 1>;
   using Graph = PoseGraph<PoseT>;
 
-  Engine(Graph& graph, const GraphOptimizerOptions& options)
-      : graph_(graph), options_(options) {}
+  Engine(Graph& graph, const GraphOptimizerOptions& options, int num_threads)
+      : graph_(graph), options_(options), team_(std::make_unique<ThreadTeam>(num_threads)) {}
 
   GraphOptimizerResult run();
 
@@ -109,6 +90,9 @@ class Engine {
 
   Graph& graph_;
   const GraphOptimizerOptions& options_;
+  // One team for the whole run: linearization and χ² passes reuse its
+  // threads instead of starting new ones per pass.
+  std::unique_ptr<ThreadTeam> team_;
   std::unique_ptr<detail::SparseCholesky> solver_;  // chosen in setup()
 
   std::vector<VertexId> slot_id_;
@@ -266,7 +250,7 @@ bool Engine<PoseT>::setup(GraphOptimizerResult& result) {
         }
       }
     }
-    solver_ = std::make_unique<detail::SparseCholesky>(type, D, options_.num_threads);
+    solver_ = std::make_unique<detail::SparseCholesky>(type, D);
     result.linear_solver = solver_->type();
     if (perm.empty())
       perm = detail::fill_reducing_order(pattern, solver_->type() == LinearSolverType::Cholmod);
@@ -350,22 +334,20 @@ void Engine<PoseT>::build_structure() {
 template <class PoseT>
 void Engine<PoseT>::linearize_edges(const std::vector<PoseT>& poses, bool jacobians) {
   lin_.resize(edges_.size());
-  parallel_for(options_.num_threads, edges_.size(), [&](std::size_t b, std::size_t e) {
-    for (std::size_t k = b; k < e; ++k) {
-      const Active& a = edges_[k];
-      const auto& edge = *edge_ptr_[k];
-      Linear& l = lin_[k];
-      l.e = edge_error(poses[a.si], poses[a.sj], edge.measurement, jacobians ? &l.Ji : nullptr,
-                       jacobians ? &l.Jj : nullptr);
-      l.s = l.e.dot(edge.information * l.e);
-      if (std::isfinite(l.s) && l.s >= 0.0) {
-        const KernelValues kv = a.kernel.evaluate(l.s);
-        l.rho = kv.rho;
-        l.w = kv.d1;
-      } else {
-        l.rho = std::numeric_limits<double>::quiet_NaN();
-        l.w = 0.0;
-      }
+  parallel_for(edges_.size(), *team_, [&](std::size_t k) {
+    const Active& a = edges_[k];
+    const auto& edge = *edge_ptr_[k];
+    Linear& l = lin_[k];
+    l.e = edge_error(poses[a.si], poses[a.sj], edge.measurement, jacobians ? &l.Ji : nullptr,
+                     jacobians ? &l.Jj : nullptr);
+    l.s = l.e.dot(edge.information * l.e);
+    if (std::isfinite(l.s) && l.s >= 0.0) {
+      const KernelValues kv = a.kernel.evaluate(l.s);
+      l.rho = kv.rho;
+      l.w = kv.d1;
+    } else {
+      l.rho = std::numeric_limits<double>::quiet_NaN();
+      l.w = 0.0;
     }
   });
 }
@@ -373,15 +355,13 @@ void Engine<PoseT>::linearize_edges(const std::vector<PoseT>& poses, bool jacobi
 template <class PoseT>
 double Engine<PoseT>::chi2_at(const std::vector<PoseT>& poses) {
   term_.resize(edges_.size());
-  parallel_for(options_.num_threads, edges_.size(), [&](std::size_t b, std::size_t e) {
-    for (std::size_t k = b; k < e; ++k) {
-      const Active& a = edges_[k];
-      const auto& edge = *edge_ptr_[k];
-      const Vec err = edge_error(poses[a.si], poses[a.sj], edge.measurement);
-      const double s = err.dot(edge.information * err);
-      term_[k] = (std::isfinite(s) && s >= 0.0) ? a.kernel.rho(s)
-                                                : std::numeric_limits<double>::quiet_NaN();
-    }
+  parallel_for(edges_.size(), *team_, [&](std::size_t k) {
+    const Active& a = edges_[k];
+    const auto& edge = *edge_ptr_[k];
+    const Vec err = edge_error(poses[a.si], poses[a.sj], edge.measurement);
+    const double s = err.dot(edge.information * err);
+    term_[k] = (std::isfinite(s) && s >= 0.0) ? a.kernel.rho(s)
+                                              : std::numeric_limits<double>::quiet_NaN();
   });
   double sum = 0.0;
   for (double t : term_) sum += t;
@@ -621,6 +601,9 @@ GraphOptimizerResult Engine<PoseT>::run() {
   result.message = fmt::format("reached the maximum of {} iterations", options_.max_iterations);
 
   for (int it = 1; it <= options_.max_iterations; ++it) {
+    // Ctrl-C between iterations: the graph is left untouched (the poses are
+    // written back only at the end).
+    throw_if_interrupted();
     const double gmax = g_.cwiseAbs().maxCoeff();
     if (gmax <= options_.gradient_tolerance) {
       result.termination = GraphTermination::Converged;
@@ -848,7 +831,7 @@ GraphOptimizerResult Engine<PoseT>::run() {
 template <class PoseT>
 GraphOptimizerResult optimize_impl(PoseGraph<PoseT>& graph, const GraphOptimizerOptions& options) {
   ROVE_CHECK_GE(options.max_iterations, 0);
-  ROVE_CHECK_GE(options.num_threads, 1);
+  const int threads = resolve_thread_count(options.num_threads, "GraphOptimizerOptions::num_threads");
   ROVE_CHECK_MSG(options.function_tolerance >= 0.0 && options.gradient_tolerance >= 0.0 &&
                      options.step_tolerance >= 0.0,
                  "tolerances must be >= 0");
@@ -857,7 +840,7 @@ GraphOptimizerResult optimize_impl(PoseGraph<PoseT>& graph, const GraphOptimizer
   ROVE_CHECK_MSG(std::isfinite(options.initial_trust_radius) && options.initial_trust_radius > 0.0,
                  "initial_trust_radius must be finite and > 0, got {}",
                  options.initial_trust_radius);
-  Engine<PoseT> engine(graph, options);
+  Engine<PoseT> engine(graph, options, threads);
   return engine.run();
 }
 

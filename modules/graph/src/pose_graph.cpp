@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 #include "rove/core/check.h"
@@ -31,6 +32,28 @@ std::optional<std::string> information_problem(const Eigen::Matrix<double, N, N>
   }
   return std::nullopt;
 }
+
+template <int N>
+Eigen::Matrix<double, N, N> nearest_positive_definite(const Eigen::Matrix<double, N, N>& information,
+                                                      double relative_floor) {
+  using Mat = Eigen::Matrix<double, N, N>;
+  ROVE_CHECK_MSG(information.allFinite(), "nearest_positive_definite: a non-finite entry");
+  ROVE_CHECK_MSG(relative_floor > 0.0 && relative_floor < 1.0,
+                 "nearest_positive_definite: relative_floor {} outside (0, 1)", relative_floor);
+  const Mat sym = 0.5 * (information + information.transpose());
+  Eigen::SelfAdjointEigenSolver<Mat> eig(sym);
+  const auto& lambda = eig.eigenvalues();
+  const double scale = lambda.cwiseAbs().maxCoeff();
+  const double floor = relative_floor * (scale > 0.0 ? scale : 1.0);
+  const Eigen::Matrix<double, N, 1> clamped = lambda.cwiseMax(floor);
+  const Mat out = eig.eigenvectors() * clamped.asDiagonal() * eig.eigenvectors().transpose();
+  return 0.5 * (out + out.transpose());
+}
+
+template Eigen::Matrix<double, 3, 3> nearest_positive_definite<3>(const Eigen::Matrix<double, 3, 3>&,
+                                                                  double);
+template Eigen::Matrix<double, 6, 6> nearest_positive_definite<6>(const Eigen::Matrix<double, 6, 6>&,
+                                                                  double);
 
 template std::optional<std::string> information_problem<3>(const Eigen::Matrix<double, 3, 3>&);
 template std::optional<std::string> information_problem<6>(const Eigen::Matrix<double, 6, 6>&);

@@ -8,7 +8,9 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/graph/blas_tuning.h"
 
+#include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -39,11 +41,8 @@ struct CholmodApi {
   decltype(&::cholmod_free_factor) free_factor = nullptr;
   decltype(&::cholmod_free_dense) free_dense = nullptr;
   // The OpenMP runtime CHOLMOD is linked to (absent when it has none).
-  int (*omp_get_max_active_levels)() = nullptr;
   void (*omp_set_max_active_levels)(int) = nullptr;
-  int (*omp_get_dynamic)() = nullptr;
   void (*omp_set_dynamic)(int) = nullptr;
-  int (*omp_get_max_threads)() = nullptr;
   void (*omp_set_num_threads)(int) = nullptr;
   bool omp = false;
   bool ok = false;
@@ -57,34 +56,25 @@ void bind(void* handle, F& f, const char* name) {
   std::memcpy(&f, &sym, sizeof(f));  // object to function pointer (POSIX)
 }
 
-// OpenBLAS (the BLAS under CHOLMOD's supernodal factorization) picks its
-// kernels from the CPU model when it loads, and a model newer than it knows
-// falls back to its SSE3 kernels: Debian 12's 0.3.21 calls a 5th-generation
-// Xeon (family 6, model 207) "Prescott" and factorizes sphere2500 1.45x
-// slower than with its AVX-512 kernels. OPENBLAS_CORETYPE overrides the
-// choice; unless the user has set it, it is set here, before CHOLMOD (and
-// with it OpenBLAS) is loaded, from the instruction sets the CPU reports:
-// SkylakeX (AVX-512 F/BW/DQ/VL) or Haswell (AVX2 + FMA), which is what
-// OpenBLAS picks itself on the CPUs it recognizes. Other BLAS ignore it.
-void choose_openblas_kernels() {
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-  if (std::getenv("OPENBLAS_CORETYPE") != nullptr) return;
-  __builtin_cpu_init();
-  const char* core = nullptr;
-  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl")) {
-    core = "SkylakeX";
-  } else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
-    core = "Haswell";
+// The thread cap asked for by tune_blas_threads(), applied when CHOLMOD
+// loads (0: none asked for; CHOLMOD's OpenMP keeps its defaults).
+std::atomic<int> g_requested_blas_threads{0};
+// Set once CHOLMOD's functions are bound (cholmod_api() has run).
+std::atomic<const CholmodApi*> g_loaded_api{nullptr};
+
+void apply_openmp_cap(const CholmodApi& api, int threads) {
+  if (!api.omp || threads < 1) return;
+  if (threads == 1) {
+    api.omp_set_max_active_levels(0);
+  } else {
+    api.omp_set_dynamic(1);
+    api.omp_set_num_threads(threads);
   }
-  if (core) setenv("OPENBLAS_CORETYPE", core, 0);
-#endif
 }
 
 const CholmodApi& cholmod_api() {
   static const CholmodApi api = [] {
     CholmodApi a;
-    choose_openblas_kernels();
     void* h = dlopen(ROVE_CHOLMOD_SONAME, RTLD_NOW | RTLD_LOCAL);
     if (!h) {
       const char* e = dlerror();
@@ -102,16 +92,14 @@ const CholmodApi& cholmod_api() {
            a.free_dense;
     if (!a.ok) a.error = std::string(ROVE_CHOLMOD_SONAME) + " lacks a cholmod_* function";
     // dlsym on the handle searches CHOLMOD and then its dependencies.
-    bind(h, a.omp_get_max_active_levels, "omp_get_max_active_levels");
     bind(h, a.omp_set_max_active_levels, "omp_set_max_active_levels");
-    bind(h, a.omp_get_dynamic, "omp_get_dynamic");
     bind(h, a.omp_set_dynamic, "omp_set_dynamic");
-    bind(h, a.omp_get_max_threads, "omp_get_max_threads");
     bind(h, a.omp_set_num_threads, "omp_set_num_threads");
-    a.omp = a.omp_get_max_active_levels && a.omp_set_max_active_levels && a.omp_get_dynamic &&
-            a.omp_set_dynamic && a.omp_get_max_threads && a.omp_set_num_threads;
+    a.omp = a.omp_set_max_active_levels && a.omp_set_dynamic && a.omp_set_num_threads;
+    apply_openmp_cap(a, g_requested_blas_threads.load());
     return a;  // the library stays loaded for the life of the process
   }();
+  g_loaded_api.store(&api);
   return api;
 }
 
@@ -120,47 +108,6 @@ const CholmodApi& loaded_cholmod() {
   if (!api.ok) throw NumericError("cannot load SuiteSparse CHOLMOD: " + api.error);
   return api;
 }
-
-// CHOLMOD 3.x (SuiteSparse 5) opens OpenMP parallel regions with a thread
-// count fixed when it was compiled (CHOLMOD_OMP_NUM_THREADS: 4 in Debian's
-// build, whatever OMP_NUM_THREADS says) to clear and fill every supernode of
-// more than ~1000 entries. On a 2-core machine that is 4 threads forked and
-// joined thousands of times per factorization: 25-30 % more CPU time for the
-// whole run (sphere2500), and far more wall time when the cores are busy.
-// For the duration of one factorization this caps those regions at the
-// caller's thread budget, in the OpenMP runtime CHOLMOD itself is linked to
-// (so rove needs no OpenMP of its own and never brings a second runtime into
-// the process): with 1 thread every region is made inactive
-// (max-active-levels 0); with more, dynamic adjustment bounds them by the
-// budget and by the idle cores. The settings are restored after.
-class OpenMpBudget {
- public:
-  OpenMpBudget(const CholmodApi& api, int threads) {
-    if (!api.omp) return;
-    api_ = &api;
-    levels_ = api.omp_get_max_active_levels();
-    dynamic_ = api.omp_get_dynamic();
-    nthreads_ = api.omp_get_max_threads();
-    if (threads <= 1) {
-      api.omp_set_max_active_levels(0);
-    } else {
-      api.omp_set_dynamic(1);
-      api.omp_set_num_threads(threads);
-    }
-  }
-  ~OpenMpBudget() {
-    if (!api_) return;
-    api_->omp_set_max_active_levels(levels_);
-    api_->omp_set_dynamic(dynamic_);
-    api_->omp_set_num_threads(nthreads_);
-  }
-  OpenMpBudget(const OpenMpBudget&) = delete;
-  OpenMpBudget& operator=(const OpenMpBudget&) = delete;
-
- private:
-  const CholmodApi* api_ = nullptr;
-  int levels_ = 1, dynamic_ = 0, nthreads_ = 1;
-};
 
 cholmod_sparse view_of(const SparseCholesky::Matrix& m) {
   cholmod_sparse a{};
@@ -196,8 +143,8 @@ struct SparseCholesky::Impl {
 #endif
 };
 
-SparseCholesky::SparseCholesky(LinearSolverType type, int block_size, int num_threads)
-    : num_threads_(num_threads), impl_(std::make_unique<Impl>()) {
+SparseCholesky::SparseCholesky(LinearSolverType type, int block_size)
+    : impl_(std::make_unique<Impl>()) {
   impl_->block_size = block_size;
   if (type == LinearSolverType::Block) {
     ROVE_CHECK_MSG(block_size == 3 || block_size == 6,
@@ -260,7 +207,6 @@ std::optional<long> SparseCholesky::factorize(const Matrix& upper) {
 #ifdef ROVE_HAVE_CHOLMOD
   if (type_ == LinearSolverType::Cholmod) {
     cholmod_sparse a = view_of(upper);
-    const OpenMpBudget budget(*impl_->api, num_threads_);
     impl_->api->factorize(&a, impl_->factor, &impl_->common);
     if (impl_->common.status == CHOLMOD_NOT_POSDEF) return static_cast<long>(impl_->factor->minor);
     if (impl_->common.status < CHOLMOD_OK) {
@@ -418,3 +364,31 @@ CholeskyCost block_cholesky_cost(const Eigen::SparseMatrix<int, Eigen::ColMajor,
 }
 
 }  // namespace rove::detail
+
+namespace rove {
+
+void configure_blas_for_this_cpu() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  if (std::getenv("OPENBLAS_CORETYPE") != nullptr) return;
+  __builtin_cpu_init();
+  const char* core = nullptr;
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl")) {
+    core = "SkylakeX";
+  } else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+    core = "Haswell";
+  }
+  if (core) setenv("OPENBLAS_CORETYPE", core, 0);
+#endif
+}
+
+void tune_blas_threads(int num_threads) {
+  ROVE_CHECK_MSG(num_threads >= 1, "tune_blas_threads: num_threads must be >= 1, got {}",
+                 num_threads);
+#ifdef ROVE_HAVE_CHOLMOD
+  detail::g_requested_blas_threads.store(num_threads);
+  if (const auto* api = detail::g_loaded_api.load()) detail::apply_openmp_cap(*api, num_threads);
+#endif
+}
+
+}  // namespace rove

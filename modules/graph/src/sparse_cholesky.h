@@ -49,8 +49,9 @@ class SparseCholesky {
 
   /// Chooses the back-end (Auto → CHOLMOD when it loads, else Block).
   /// `block_size` is the side of the dense blocks (3 or 6; Block needs it).
-  /// `num_threads` bounds the threads CHOLMOD's own OpenMP regions may use.
-  SparseCholesky(LinearSolverType type, int block_size, int num_threads);
+  /// CHOLMOD's own OpenMP threads are set once per process by the opt-in
+  /// tune_blas_threads() (rove/graph/blas_tuning.h), never here.
+  SparseCholesky(LinearSolverType type, int block_size);
   ~SparseCholesky();
   SparseCholesky(const SparseCholesky&) = delete;
   SparseCholesky& operator=(const SparseCholesky&) = delete;
@@ -70,7 +71,6 @@ class SparseCholesky {
  private:
   struct Impl;
   LinearSolverType type_;
-  int num_threads_ = 1;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -94,10 +94,9 @@ struct GraphOptimizerOptions {
   /// refactorizes with a larger λ (intel_carlone: 5 factorizations vs 61).
   GraphSolver solver = GraphSolver::DogLeg;
   /// Cholesky back-end. The first problem that uses CHOLMOD loads it (and
-  /// its BLAS); before that, unless OPENBLAS_CORETYPE is set, rove sets it
-  /// (setenv) to the OpenBLAS kernels the CPU supports (docs/graph-slam.md).
-  /// A program that reads its environment from other threads at that moment
-  /// should set the variable itself beforehand.
+  /// its BLAS). optimize() changes no process-wide setting: the BLAS kernel
+  /// choice and CHOLMOD's OpenMP threads are the caller's opt-in
+  /// (rove/graph/blas_tuning.h).
   LinearSolverType linear_solver = LinearSolverType::Auto;
   int max_iterations = 100;          ///< linear solves at most (≥ 0)
   double function_tolerance = 1e-8;  ///< stop when a step changes χ² by ≤ this × χ² (an accepted
@@ -107,8 +106,10 @@ struct GraphOptimizerOptions {
   double initial_lambda = 1e-5;      ///< LM: initial λ, relative to diag(JᵀWJ)
   double initial_trust_radius = 1e4; ///< dog-leg: initial radius of the trust region
   int level = 0;                     ///< only edges with this level are used
-  int num_threads = 1;               ///< threads for linearization and χ² (≥ 1); results do not
-                                     ///< depend on it (per-edge terms are summed in edge order)
+  int num_threads = 1;               ///< threads for linearization and χ² (0: all hardware
+                                     ///< threads, at most rove::kMaxThreads); one team per
+                                     ///< run; results do not depend on it (per-edge terms are
+                                     ///< summed in edge order)
   std::optional<RobustKernel> robust_kernel;  ///< when set, replaces every edge's own kernel
   std::optional<VertexId> anchor;    ///< vertex to hold fixed for this run (besides fixed ones)
   /// Dog-leg and Gauss–Newton, on graphs whose factorization is dense
@@ -160,7 +161,10 @@ struct GraphOptimizerResult {
 
 /// Optimizes the non-fixed vertices touched by edges of options.level, in
 /// place. On InvalidInput the graph is untouched; on NumericalFailure it
-/// holds the last accepted poses. Throws InvalidArgument for bad options.
+/// holds the last accepted poses. Throws InvalidArgument for bad options,
+/// rove::Interrupted (graph untouched) when the command line's Ctrl-C handler
+/// fired between two iterations. Thread-safety: calls on different graphs may
+/// run at once on different threads (no process-wide state is changed).
 GraphOptimizerResult optimize(PoseGraph2D& graph, const GraphOptimizerOptions& options = {});
 /// 3D overload.
 GraphOptimizerResult optimize(PoseGraph3D& graph, const GraphOptimizerOptions& options = {});

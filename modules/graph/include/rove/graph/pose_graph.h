@@ -59,6 +59,19 @@ struct PoseGraphEdge {
 template <int N>
 std::optional<std::string> information_problem(const Eigen::Matrix<double, N, N>& information);
 
+/// The symmetric positive definite matrix nearest to `information` by
+/// eigenvalue clamping: Ω' = V·max(Λ, f)·Vᵀ with f = relative_floor · max|λ|
+/// (relative_floor itself when every λ is 0). With f = 0 this is the nearest
+/// positive semidefinite matrix in the Frobenius norm (Higham, "Computing a
+/// nearest symmetric positive semidefinite matrix", Linear Algebra Appl.
+/// 1988, Theorem 2.1); the floor keeps Ω' invertible, so an edge whose
+/// matrix had a negative direction keeps a weak, positive weight along it.
+/// `information` is symmetrized first. Preconditions (InvalidArgument): all
+/// entries finite, 0 < relative_floor < 1.
+template <int N>
+Eigen::Matrix<double, N, N> nearest_positive_definite(const Eigen::Matrix<double, N, N>& information,
+                                                      double relative_floor = 1e-6);
+
 /// A 2D (PoseT = SE2d) or 3D (PoseT = SE3d) pose graph.
 ///
 /// Vertices are kept ordered by id. Edge indices are positions in edges();
