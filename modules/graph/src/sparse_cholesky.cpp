@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <string>
 
 #ifdef ROVE_HAVE_CHOLMOD
@@ -59,6 +60,14 @@ void bind(void* handle, F& f, const char* name) {
 // The thread cap asked for by tune_blas_threads(), applied when CHOLMOD
 // loads (0: none asked for; CHOLMOD's OpenMP keeps its defaults).
 std::atomic<int> g_requested_blas_threads{0};
+// CHOLMOD's numeric work runs one call at a time in the process: the BLAS
+// under it need not be reentrant. Debian 12's serial OpenBLAS (0.3.21) is
+// not: two optimizations factorizing at once on different threads corrupted
+// each other's factors (a final χ² off by 1.85e3 in one run of ten), so the
+// test "two optimize() calls at once equal serial runs" failed. A mutex here
+// is rove's own state, not a process-wide setting of someone else's library.
+std::mutex g_cholmod_mutex;
+
 // Set once CHOLMOD's functions are bound (cholmod_api() has run).
 std::atomic<const CholmodApi*> g_loaded_api{nullptr};
 
@@ -187,6 +196,7 @@ void SparseCholesky::analyze(const Matrix& upper) {
   if (type_ == LinearSolverType::Cholmod) {
     if (impl_->factor) impl_->api->free_factor(&impl_->factor, &impl_->common);
     cholmod_sparse a = view_of(upper);
+    const std::lock_guard lock(g_cholmod_mutex);
     impl_->factor = impl_->api->analyze(&a, &impl_->common);
     if (!impl_->factor) {
       throw NumericError("CHOLMOD symbolic analysis failed (status " +
@@ -207,6 +217,7 @@ std::optional<long> SparseCholesky::factorize(const Matrix& upper) {
 #ifdef ROVE_HAVE_CHOLMOD
   if (type_ == LinearSolverType::Cholmod) {
     cholmod_sparse a = view_of(upper);
+    const std::lock_guard lock(g_cholmod_mutex);
     impl_->api->factorize(&a, impl_->factor, &impl_->common);
     if (impl_->common.status == CHOLMOD_NOT_POSDEF) return static_cast<long>(impl_->factor->minor);
     if (impl_->common.status < CHOLMOD_OK) {
@@ -235,6 +246,7 @@ void SparseCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     bd.x = const_cast<double*>(b.data());
     bd.xtype = CHOLMOD_REAL;
     bd.dtype = CHOLMOD_DOUBLE;
+    const std::lock_guard lock(g_cholmod_mutex);
     cholmod_dense* xd = impl_->api->solve(CHOLMOD_A, impl_->factor, &bd, &impl_->common);
     if (!xd) throw NumericError("CHOLMOD solve failed");
     x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(xd->x), b.size());
