@@ -1,4 +1,4 @@
-// Pose-graph plots rasterized in gray levels and encoded by the maps
+// Pose-graph plots rasterized as palette indices and written by the maps
 // module's PNG writer.
 #include "graph_plot.h"
 
@@ -6,19 +6,26 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <string_view>
 #include <vector>
 
 #include "rove/core/check.h"
-#include "rove/core/files.h"
 #include "rove/maps/gray_image.h"
 
 namespace rove::cli {
 namespace {
 
+// Palette indices; kPalette holds their colors.
 using Gray = std::uint8_t;
-constexpr Gray kBackground = 255, kSeparator = 200, kLoopClosure = 190, kOdometry = 90,
-               kVertex = 0;
+constexpr Gray kBackground = 0, kSeparator = 1, kLoopClosure = 2, kOdometry = 3, kVertex = 4,
+               kAnchor = 5;
+const std::vector<PaletteColor> kPalette = {
+    {255, 255, 255},  // background
+    {200, 200, 200},  // separator between the panels
+    {240, 150, 150},  // loop closures
+    {40, 80, 220},    // odometry
+    {0, 0, 0},        // vertices
+    {0, 160, 0},      // anchors
+};
 
 class Canvas {
  public:
@@ -103,15 +110,15 @@ void write_graph_plot(const PoseGraph2D& before, const PoseGraph2D& after,
       int x, y;
       to_px(v.pose, x, y);
       if (v.fixed) {
-        canvas.dot(x, y, 4, kVertex);
+        canvas.dot(x, y, 4, kAnchor);
       } else {
         canvas.set(x, y, kVertex);
       }
     }
   }
-  const std::vector<std::uint8_t> png = encode_png(canvas.image());
-  write_text_file_atomically(
-      path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+  PngEncoding encoding;
+  encoding.palette = kPalette;
+  write_png(path, canvas.image(), encoding);
 }
 
 }  // namespace rove::cli
