@@ -39,6 +39,7 @@ struct GraphSlamArgs {
 // Everything the command learnt before optimizing.
 struct Loaded {
   int dim = 2;
+  GraphReadOptions read_options;
   GraphReadReport read;
   GraphStatistics stats;
   double load_s = 0.0;
@@ -194,11 +195,20 @@ int run(Graph g, const GraphSlamArgs& a, const Loaded& l, int threads) {
   }
   std::optional<AlignedPositionError> gt;
   if (!a.ground_truth.empty() && r.ok()) {
+    Graph truth;
     if constexpr (std::is_same_v<Graph, PoseGraph2D>) {
-      gt = aligned_position_error(g, read_graph_2d(a.ground_truth));
+      truth = read_graph_2d(a.ground_truth, l.read_options);
     } else {
-      gt = aligned_position_error(g, read_graph_3d(a.ground_truth));
+      truth = read_graph_3d(a.ground_truth, l.read_options);
     }
+    std::size_t common = 0;
+    for (const auto& kv : truth.vertices()) common += g.has_vertex(kv.first) ? 1 : 0;
+    if (common < 3) {
+      throw InvalidArgument(fmt::format(
+          "--ground-truth {}: only {} of its vertex ids are in the graph; the alignment needs 3",
+          printable(a.ground_truth), common));
+    }
+    gt = aligned_position_error(g, truth);
   }
 
   if (a.json) {
@@ -388,7 +398,7 @@ void add_graph_slam_command(CLI::App& app) {
     if (l.dim == 3 && !a->plot.empty()) {
       throw InvalidArgument("--plot draws 2D graphs only; this graph is 3D");
     }
-    GraphReadOptions ro;
+    GraphReadOptions& ro = l.read_options;
     ro.repair_information = *parse_information_repair(a->repair_information);
     int rc = 0;
     if (l.dim == 2) {

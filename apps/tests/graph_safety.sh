@@ -63,6 +63,9 @@ if command -v python3 >/dev/null; then
     failures=$((failures + 1))
   fi
 fi
+# A ground truth that shares too few vertices: the flag and the file are named.
+printf 'VERTEX2 5000 0 0 0\nVERTEX2 5001 1 0 0\n' > "$work/far.graph"
+expect 1 "--ground-truth .*far\.graph: only 0 of its vertex ids" -- graph-slam -i "$work/in.g2o" --ground-truth "$work/far.graph"
 # Outputs are complete files (no temporary left beside them).
 expect 0 "plot " -- graph-slam -i "$work/circle.graph" -o "$work/out.g2o" --plot "$work/out.png"
 if ls -A "$work" | grep -q rove-tmp; then echo "FAIL: a temporary file was left"; failures=$((failures + 1)); fi
