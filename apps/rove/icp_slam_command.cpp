@@ -1,4 +1,5 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -11,7 +12,11 @@
 
 #include "commands.h"
 #include "data_dir.h"
+#include "report.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
+#include "rove/core/interrupt.h"
+#include "rove/core/json.h"
 #include "rove/core/ini.h"
 #include "rove/core/progress.h"
 #include "rove/core/timer.h"
@@ -37,26 +42,8 @@ struct IcpSlamCliOptions {
   bool json = false;
   bool progress = true;
   std::optional<std::uint64_t> max_steps;
+  std::optional<float> max_range;
 };
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
 
 // The rawlog: the command line's, else the config's rawlog_file as given,
 // else relative to the config file's folder.
@@ -75,6 +62,35 @@ std::string resolve_rawlog(const IcpSlamCliOptions& o, const IcpSlamConfig& cfg)
                                 cfg.rawlog_file, beside.string()));
 }
 
+// The files a run writes into the output folder, known before it starts (the
+// map declarations name them), so that none can be an input.
+struct OutputPlan {
+  std::vector<fs::path> files;
+};
+
+OutputPlan plan_outputs(const fs::path& dir, const MultiMetricMap& map) {
+  OutputPlan p;
+  for (const char* name : {"path.tum", "odometry.tum", "keyframes.tum", "map.simplemap",
+                           "summary.json"}) {
+    p.files.push_back(dir / name);
+  }
+  std::size_t grids = 0, clouds = 0;
+  for (const auto& e : map.entries()) {
+    if (dynamic_cast<const OccupancyGridMetricMap*>(e.map.get()) != nullptr) {
+      const std::string stem = grids == 0 ? "map" : fmt::format("map_{:02}", grids);
+      p.files.push_back(dir / (stem + ".png"));
+      p.files.push_back(dir / (stem + ".yaml"));
+      ++grids;
+    } else if (dynamic_cast<const PointsMetricMap*>(e.map.get()) != nullptr) {
+      const std::string stem = clouds == 0 ? "points" : fmt::format("points_{:02}", clouds);
+      p.files.push_back(dir / (stem + ".ply"));
+      p.files.push_back(dir / (stem + ".png"));
+      ++clouds;
+    }
+  }
+  return p;
+}
+
 void run(IcpSlamCliOptions o) {
   Stopwatch total;
   const bool demo = o.config.empty();
@@ -83,26 +99,59 @@ void run(IcpSlamCliOptions o) {
     o.config = (data / kDemoConfig).string();
     if (o.rawlog.empty()) o.rawlog = (data / kDemoRawlog).string();
   }
+  check_regular_input(o.config, "icp-slam config file");
   const IniFile ini = IniFile::load(o.config);
   IcpSlamConfig cfg = load_icp_slam_config(ini);
   const std::string rawlog = resolve_rawlog(o, cfg);
+  check_regular_input(rawlog, "rawlog");
 
-  std::error_code ec;
-  fs::create_directories(o.out_dir, ec);
-  if (ec) throw IoError(o.out_dir, "cannot create the output folder: " + ec.message());
+  const fs::path dir(o.out_dir);
+  const OutputPlan plan = plan_outputs(dir, cfg.map);
+  if (fs::exists(dir) && !fs::is_directory(dir)) {
+    throw IoError(o.out_dir, "the output folder (-o) exists and is not a folder");
+  }
+  check_outputs_distinct({fs::path(o.config), fs::path(rawlog)}, plan.files);
 
   IcpSlam slam(cfg.options, std::move(cfg.map));
   IcpSlamRunOptions ro;
   ro.rawlog_offset = cfg.rawlog_offset;
   ro.max_steps = o.max_steps;
+  std::string max_range_source = "default";
+  float max_range = ro.reader.carmen.log.flaser_max_range;
+  if (cfg.carmen_max_range) {
+    max_range = *cfg.carmen_max_range;
+    max_range_source = "[CARMEN] maxRange";
+  }
+  if (o.max_range) {
+    max_range = *o.max_range;
+    max_range_source = "--max-range";
+  }
+  ro.reader.carmen.log.flaser_max_range = max_range;
   std::optional<Progress> progress;
-  if (o.progress) progress.emplace(std::nullopt, "icp-slam " + rawlog, std::cerr);
-  if (progress) ro.on_step = [&](const IcpSlamStep&) { progress->advance(); };
-  const IcpSlamRunResult res = run_icp_slam(slam, rawlog, ro);
+  if (o.progress) progress.emplace(std::nullopt, "icp-slam " + printable(rawlog), std::cerr);
+  std::uint64_t steps_done = 0;
+  ro.on_step = [&](const IcpSlamStep&) {
+    ++steps_done;
+    if (progress) progress->advance();
+  };
+  IcpSlamRunResult res;
+  try {
+    res = run_icp_slam(slam, rawlog, ro);
+  } catch (const Interrupted&) {
+    if (progress) progress->finish();
+    fmt::print(stderr, "rove: interrupted after {} steps; nothing written to {}\n", steps_done,
+               printable(o.out_dir));
+    throw;
+  }
   if (progress) progress->finish();
 
-  // Outputs.
-  const fs::path dir(o.out_dir);
+  std::vector<Issue> issues;
+  for (const auto& i : res.issues) issues.push_back({i.code, i.message});
+  std::error_code ec;
+  fs::create_directories(o.out_dir, ec);
+  if (ec) throw IoError(o.out_dir, "cannot create the output folder: " + ec.message());
+
+  // Outputs, each written under a temporary name and renamed when complete.
   std::vector<std::string> files;
   std::vector<TimedPose2> est, odo;
   std::vector<Pose2> path;
@@ -111,92 +160,138 @@ void run(IcpSlamCliOptions o) {
     odo.push_back({s.time, s.odometry});
     path.push_back(s.pose);
   }
-  write_tum_trajectory((dir / "path.tum").string(), est);
-  write_tum_trajectory((dir / "odometry.tum").string(), odo);
-  files.push_back((dir / "path.tum").string());
-  files.push_back((dir / "odometry.tum").string());
-  std::vector<TimedPose2> kf_poses;
-  std::vector<SimpleMapEntry2D> kf;
-  for (const auto& k : slam.keyframes()) {
-    kf_poses.push_back({k.observation->timestamp, k.pose});
-    kf.push_back({k.pose, Eigen::Matrix3d::Zero(), k.observation.get()});
-  }
-  write_tum_trajectory((dir / "keyframes.tum").string(), kf_poses);
-  files.push_back((dir / "keyframes.tum").string());
-  const SimpleMapWriteReport smr = write_mrpt_simplemap((dir / "map.simplemap").string(), kf);
-  files.push_back((dir / "map.simplemap").string());
-
-  std::size_t grids = 0, clouds = 0, points = 0;
-  std::string picture;
-  for (const auto& e : slam.map().entries()) {
-    if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
-      const std::string stem = grids == 0 ? "map" : fmt::format("map_{:02}", grids);
-      const GridMapFiles gf = write_grid_map((dir / stem).string(), g->grid());
-      files.push_back(gf.image);
-      files.push_back(gf.yaml);
-      if (picture.empty()) picture = gf.image;
-      ++grids;
-    } else if (const auto* p = dynamic_cast<const PointsMetricMap*>(e.map.get())) {
-      const std::string stem = clouds == 0 ? "points" : fmt::format("points_{:02}", clouds);
-      write_ply((dir / (stem + ".ply")).string(), p->points().cloud());
-      render_points_png((dir / (stem + ".png")).string(), p->points().cloud(), path);
-      files.push_back((dir / (stem + ".ply")).string());
-      files.push_back((dir / (stem + ".png")).string());
-      if (clouds == 0) points = p->points().cloud().size();
-      if (picture.empty() && grids == 0) picture = (dir / (stem + ".png")).string();
-      ++clouds;
+  try {
+    write_tum_trajectory((dir / "path.tum").string(), est);
+    files.push_back((dir / "path.tum").string());
+    write_tum_trajectory((dir / "odometry.tum").string(), odo);
+    files.push_back((dir / "odometry.tum").string());
+    std::vector<TimedPose2> kf_poses;
+    std::vector<SimpleMapEntry2D> kf;
+    for (const auto& k : slam.keyframes()) {
+      kf_poses.push_back({k.observation->timestamp, k.pose});
+      kf.push_back({k.pose, Eigen::Matrix3d::Zero(), k.observation.get()});
     }
-  }
+    write_tum_trajectory((dir / "keyframes.tum").string(), kf_poses);
+    files.push_back((dir / "keyframes.tum").string());
+    const SimpleMapWriteReport smr = write_mrpt_simplemap((dir / "map.simplemap").string(), kf);
+    files.push_back((dir / "map.simplemap").string());
+    if (smr.skipped) {
+      issues.push_back({"simplemap-incomplete",
+                        fmt::format("{} keyframes not written to map.simplemap (not 2D scans)",
+                                    smr.skipped)});
+    }
 
-  const IcpSlamStats& st = slam.stats();
-  const std::size_t n = res.steps.size();
-  double max_step = 0.0;
-  for (const auto& s : res.steps) max_step = std::max(max_step, s.seconds);
-  const double mean_step = n ? res.mapping_seconds / static_cast<double>(n) : 0.0;
-  const Pose2 final_pose = slam.pose();
-  const double iters_per_icp =
-      st.icp_runs ? static_cast<double>(st.icp_iterations) / static_cast<double>(st.icp_runs) : 0.0;
+    std::size_t grids = 0, clouds = 0, points = 0;
+    std::string picture;
+    for (const auto& e : slam.map().entries()) {
+      if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
+        const std::string stem = grids == 0 ? "map" : fmt::format("map_{:02}", grids);
+        const GridMapFiles gf = write_grid_map((dir / stem).string(), g->grid());
+        files.push_back(gf.image);
+        files.push_back(gf.yaml);
+        if (picture.empty()) picture = gf.image;
+        ++grids;
+      } else if (const auto* p = dynamic_cast<const PointsMetricMap*>(e.map.get())) {
+        const std::string stem = clouds == 0 ? "points" : fmt::format("points_{:02}", clouds);
+        write_ply((dir / (stem + ".ply")).string(), p->points().cloud());
+        files.push_back((dir / (stem + ".ply")).string());
+        render_points_png((dir / (stem + ".png")).string(), p->points().cloud(), path);
+        files.push_back((dir / (stem + ".png")).string());
+        if (clouds == 0) points = p->points().cloud().size();
+        if (picture.empty() && grids == 0) picture = (dir / (stem + ".png")).string();
+        ++clouds;
+      }
+    }
 
-  std::string summary = fmt::format(
-      "{{\n  \"config\": {},\n  \"rawlog\": {},\n  \"format\": \"{}\",\n  \"steps\": {},\n"
-      "  \"observations\": {},\n  \"odometry_readings\": {},\n  \"icp_runs\": {},\n"
-      "  \"icp_accepted\": {},\n  \"icp_iterations\": {},\n  \"icp_iterations_per_run\": {:.2f},\n"
-      "  \"keyframes\": {},\n  \"map_points\": {},\n  \"grid_maps\": {},\n"
-      "  \"final_pose\": {{\"x\": {:.6f}, \"y\": {:.6f}, \"phi\": {:.6f}}},\n"
-      "  \"mapping_seconds\": {:.6f},\n  \"icp_seconds\": {:.6f},\n  \"insert_seconds\": {:.6f},\n"
-      "  \"read_seconds\": {:.6f},\n  \"seconds_per_step_mean\": {:.6f},\n"
-      "  \"seconds_per_step_max\": {:.6f},\n  \"total_seconds\": {:.6f},\n  \"files\": [",
-      json_string(o.config), json_string(rawlog), to_string(res.format), n, st.observations,
-      st.odometry, st.icp_runs, st.icp_accepted, st.icp_iterations, iters_per_icp, st.insertions,
-      points, grids, final_pose.x(), final_pose.y(), final_pose.phi(), res.mapping_seconds,
-      st.icp_seconds, st.insert_seconds, res.read_seconds, mean_step, max_step, total.elapsed());
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    summary += (i ? ", " : "") + json_string(files[i]);
-  }
-  summary += "]\n}\n";
-  {
-    std::ofstream f(dir / "summary.json");
-    f << summary;
-    if (!f) throw IoError((dir / "summary.json").string(), "write failed");
-  }
+    const IcpSlamStats& st = slam.stats();
+    const std::size_t n = res.steps.size();
+    double max_step = 0.0;
+    for (const auto& s : res.steps) max_step = std::max(max_step, s.seconds);
+    const double mean_step = n ? res.mapping_seconds / static_cast<double>(n) : 0.0;
+    const Pose2 final_pose = slam.pose();
+    const double iters_per_icp =
+        st.icp_runs ? static_cast<double>(st.icp_iterations) / static_cast<double>(st.icp_runs)
+                    : 0.0;
+    const std::string summary_path = (dir / "summary.json").string();
+    files.push_back(summary_path);
 
-  if (o.json) {
-    fmt::print("{}", summary);
-    return;
+    JsonWriter j;
+    j.begin_object();
+    j.key("config").value(o.config);
+    j.key("rawlog").value(rawlog);
+    j.key("format").value(to_string(res.format));
+    if (res.format == RawlogFormat::kCarmen) {
+      j.key("carmen_max_range").value(static_cast<double>(max_range));
+      j.key("carmen_max_range_source").value(max_range_source);
+    }
+    j.key("steps").value(n);
+    j.key("observations").value(st.observations);
+    j.key("scans").value(res.scans);
+    j.key("odometry_readings").value(st.odometry);
+    j.key("icp_runs").value(st.icp_runs);
+    j.key("icp_accepted").value(st.icp_accepted);
+    j.key("icp_rejected_goodness").value(st.icp_rejected_goodness);
+    j.key("icp_rejected_diverged").value(st.icp_rejected_invalid);
+    j.key("icp_goodness_max").value(st.icp_goodness_max);
+    j.key("min_icp_goodness_to_accept").value(slam.options().min_icp_goodness_to_accept);
+    j.key("icp_iterations").value(st.icp_iterations);
+    j.key("icp_iterations_per_run").value(iters_per_icp);
+    j.key("keyframes").value(st.insertions);
+    j.key("map_points").value(points);
+    j.key("grid_maps").value(grids);
+    j.key("final_pose").begin_object();
+    j.key("x").value(final_pose.x()).key("y").value(final_pose.y());
+    j.key("phi").value(final_pose.phi()).end_object();
+    j.key("mapping_seconds").value(res.mapping_seconds);
+    j.key("icp_seconds").value(st.icp_seconds);
+    j.key("insert_seconds").value(st.insert_seconds);
+    j.key("read_seconds").value(res.read_seconds);
+    j.key("seconds_per_step_mean").value(mean_step);
+    j.key("seconds_per_step_max").value(max_step);
+    j.key("total_seconds").value(total.elapsed());
+    j.key("files").value(files);
+    write_issues(j, issues);
+    j.end_object();
+    const std::string summary = j.str() + "\n";
+    write_text_file_atomically(summary_path, summary);
+
+    if (o.json) {
+      fmt::print("{}", summary);
+    } else {
+      fmt::print("icp-slam: {} steps from {} ({})\n", n, printable(rawlog), to_string(res.format));
+      fmt::print("  config: {}\n", printable(o.config));
+      if (res.format == RawlogFormat::kCarmen) {
+        fmt::print("  CARMEN maximum range: {:g} m ({}; PARAM lines of the log take "
+                   "precedence)\n",
+                   max_range, max_range_source);
+      }
+      fmt::print("  ICP: {} runs, {} accepted, {} rejected (goodness <= {:g}), {} diverged; "
+                 "{} iterations ({:.1f} per run)\n",
+                 st.icp_runs, st.icp_accepted, st.icp_rejected_goodness,
+                 slam.options().min_icp_goodness_to_accept, st.icp_rejected_invalid,
+                 st.icp_iterations, iters_per_icp);
+      fmt::print("  map: {} keyframes, {} points{}\n", st.insertions, points,
+                 grids ? fmt::format(", {} grid map(s)", grids) : std::string());
+      fmt::print("  final pose: {}\n", final_pose.as_string());
+      fmt::print("  time: mapping {:.3f} s ({:.3f} ms/step, max {:.3f} ms), reading {:.3f} s, "
+                 "total {:.3f} s\n",
+                 res.mapping_seconds, 1e3 * mean_step, 1e3 * max_step, res.read_seconds,
+                 total.elapsed());
+      fmt::print("  wrote {} files to {}/ (map picture: {})\n", files.size(), printable(o.out_dir),
+                 printable(picture));
+      if (issues.empty()) {
+        fmt::print("  issues: none\n");
+      } else {
+        fmt::print("  issues:\n");
+        for (const auto& i : issues) fmt::print("    {}: {}\n", i.code, i.message);
+      }
+    }
+  } catch (const Interrupted&) {
+    fmt::print(stderr, "rove: interrupted while writing; complete files: {}\n",
+               files.empty() ? std::string("none") : printable(fmt::format("{}", fmt::join(files, ", "))));
+    throw;
   }
-  fmt::print("icp-slam: {} steps from {} ({})\n", n, rawlog, to_string(res.format));
-  fmt::print("  config: {}\n", o.config);
-  fmt::print("  ICP: {} runs, {} accepted, {} iterations ({:.1f} per run)\n", st.icp_runs,
-             st.icp_accepted, st.icp_iterations, iters_per_icp);
-  fmt::print("  map: {} keyframes, {} points{}\n", st.insertions, points,
-             grids ? fmt::format(", {} grid map(s)", grids) : std::string());
-  if (smr.skipped) fmt::print("  simplemap: {} keyframes not written (not 2D scans)\n", smr.skipped);
-  fmt::print("  final pose: {}\n", final_pose.as_string());
-  fmt::print("  time: mapping {:.3f} s ({:.3f} ms/step, max {:.3f} ms), reading {:.3f} s, "
-             "total {:.3f} s\n",
-             res.mapping_seconds, 1e3 * mean_step, 1e3 * max_step, res.read_seconds,
-             total.elapsed());
-  fmt::print("  wrote {} files to {}/ (map picture: {})\n", files.size() + 1, o.out_dir, picture);
+  finish(issues);
 }
 
 }  // namespace
@@ -209,10 +304,15 @@ void add_icp_slam_command(CLI::App& app) {
       "CARMEN); without arguments, the bundled demo (Telecom Faculty loop)");
   cmd->add_option("config", o->config, "MRPT icp-slam configuration file (.ini)");
   cmd->add_option("rawlog", o->rawlog, "rawlog (default: the config's rawlog_file)");
-  cmd->add_option("-o,--output", o->out_dir, "output folder (default: icp-slam-out)");
+  cmd->add_option("-o,--output", o->out_dir, "output folder")->capture_default_str();
   cmd->add_flag("--json", o->json, "print the summary as JSON");
   cmd->add_flag("!--no-progress", o->progress, "do not report progress on stderr");
-  cmd->add_option("--max-steps", o->max_steps, "process at most this many steps");
+  cmd->add_option("--max-steps", o->max_steps, "process at most this many steps (default: all)");
+  cmd->add_option("--max-range", o->max_range,
+                  "CARMEN logs: maximum range of FLASER/RLASER scans, meters, when the log has no "
+                  "PARAM line stating it; readings at or above it are \"no return\" (default: "
+                  "the config's [CARMEN] maxRange, else 81)")
+      ->check(CLI::PositiveNumber);
   cmd->callback([o] { run(*o); });
 }
 

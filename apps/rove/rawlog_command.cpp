@@ -12,12 +12,17 @@
 #include <variant>
 
 #include "commands.h"
+#include "report.h"
+#include "rove/core/files.h"
+#include "rove/core/interrupt.h"
+#include "rove/core/json.h"
 #include "rove/core/progress.h"
 #include "rove/obs/action_collection.h"
 #include "rove/obs/observation.h"
 #include "rove/obs/any_rawlog.h"
 #include "rove/obs/rawlog_reader.h"
 #include "rove/obs/rawlog_tools.h"
+#include "rove/obs/selection_error.h"
 #include "rove/obs/sensory_frame.h"
 #include "rove/serialization/input_file.h"
 
@@ -25,11 +30,41 @@ namespace rove::cli {
 
 namespace {
 
+// Default maximum range of CARMEN FLASER/RLASER lines (CarmenLogOptions).
+constexpr float kDefaultCarmenMaxRange = CarmenLogOptions{}.flaser_max_range;
+
 struct RawlogInfoOptions {
   std::string file;
   bool json = false;
   bool progress = true;
+  float max_range = kDefaultCarmenMaxRange;
 };
+
+AnyRawlogOptions read_options(float carmen_max_range) {
+  AnyRawlogOptions o;
+  o.carmen.log.flaser_max_range = carmen_max_range;
+  return o;
+}
+
+// The --max-range flag of every command that reads a rawlog.
+void add_max_range(CLI::App* cmd, float& max_range) {
+  cmd->add_option("--max-range", max_range,
+                  "CARMEN logs: maximum range of FLASER/RLASER scans, meters, when the log has no "
+                  "PARAM robot_front_laser_max / robot_rear_laser_max; readings at or above it "
+                  "are \"no return\" (e.g. 50 for the ACES log)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+}
+
+// CARMEN maximum ranges as read, for the summaries.
+std::string carmen_ranges(const CarmenLogStats& s) {
+  auto one = [](float r, bool from_log) {
+    return fmt::format("{:g} m ({})", r, from_log ? "PARAM line" : "--max-range");
+  };
+  std::string out = "FLASER " + one(s.front_max_range, s.front_max_range_from_log);
+  if (s.rlaser > 0) out += ", RLASER " + one(s.rear_max_range, s.rear_max_range_from_log);
+  return out;
+}
 
 // What `rove rawlog info` counts while streaming a rawlog once.
 struct RawlogSummary {
@@ -46,6 +81,8 @@ struct RawlogSummary {
   // Earliest and latest observation time (actions are not counted, as in
   // rawlog-edit --info).
   std::optional<Timestamp> first, last;
+  // CARMEN logs: the reader's counts (maximum ranges used).
+  std::optional<CarmenLogStats> carmen;
 
   void add_time(Timestamp t) {
     if (!t.valid()) return;
@@ -93,12 +130,14 @@ class FileProgress {
   std::optional<Progress> progress_;
 };
 
-RawlogSummary summarize(const std::string& path, bool show_progress, RawlogFormat& format) {
+RawlogSummary summarize(const std::string& path, bool show_progress, float max_range,
+                        RawlogFormat& format) {
   RawlogSummary s;
-  AnyRawlogReader reader(path);
+  AnyRawlogReader reader(path, read_options(max_range));
   format = reader.format();
   FileProgress progress(path, show_progress, "reading");
   while (auto entry = reader.next()) {
+    throw_if_interrupted();
     ++s.entries;
     std::visit(
         [&s](const auto& e) {
@@ -125,30 +164,12 @@ RawlogSummary summarize(const std::string& path, bool show_progress, RawlogForma
   }
   progress.finish();
   s.bytes = format == RawlogFormat::kCarmen ? 0 : reader.position();
+  if (const auto* c = reader.carmen()) s.carmen = c->stats().log;
   return s;
 }
 
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          out += fmt::format("\\u{:04x}", static_cast<unsigned>(c));
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
-
 void print_text(const std::string& path, RawlogFormat format, const RawlogSummary& s) {
-  fmt::print("file: {}\n", path);
+  fmt::print("file: {}\n", printable(path));
   fmt::print("format: {}\n", to_string(format));
   fmt::print("entries: {} ({} action collections, {} sensory frames, {} bare observations)\n",
              s.entries, s.action_collections, s.sensory_frames, s.bare_observations);
@@ -171,39 +192,53 @@ void print_text(const std::string& path, RawlogFormat format, const RawlogSummar
   }
   fmt::print("actions: {}\n", s.actions);
   for (const auto& [kind, n] : s.action_kinds) fmt::print("  {:>8}  {}\n", n, kind);
+  if (s.carmen) fmt::print("CARMEN maximum range: {}\n", carmen_ranges(*s.carmen));
 }
 
 void print_json(const std::string& path, RawlogFormat format, const RawlogSummary& s) {
-  fmt::print("{{\"file\": {}, \"format\": \"{}\", \"entries\": {}, \"action_collections\": {}, "
-             "\"sensory_frames\": {}, \"bare_observations\": {}, \"actions\": {}, "
-             "\"observations\": {}, \"uncompressed_bytes\": {}",
-             json_string(path), to_string(format), s.entries, s.action_collections, s.sensory_frames,
-             s.bare_observations, s.actions, s.observations_in_frames + s.bare_observations,
-             s.bytes);
+  JsonWriter j(0);
+  j.begin_object();
+  j.key("file").value(path);
+  j.key("format").value(to_string(format));
+  j.key("entries").value(s.entries);
+  j.key("action_collections").value(s.action_collections);
+  j.key("sensory_frames").value(s.sensory_frames);
+  j.key("bare_observations").value(s.bare_observations);
+  j.key("actions").value(s.actions);
+  j.key("observations").value(s.observations_in_frames + s.bare_observations);
+  j.key("uncompressed_bytes").value(s.bytes);
   if (s.first && s.last) {
-    fmt::print(", \"time_first\": {:.9f}, \"time_last\": {:.9f}", s.first->to_seconds(),
-               s.last->to_seconds());
+    j.key("time_first").value(s.first->to_seconds());
+    j.key("time_last").value(s.last->to_seconds());
   }
-  fmt::print(", \"observation_kinds\": [");
-  bool first = true;
+  j.key("observation_kinds").begin_array();
   for (const auto& [kind, n] : s.observation_kinds) {
-    fmt::print("{}{{\"class\": {}, \"label\": {}, \"count\": {}}}", first ? "" : ", ",
-               json_string(kind.first), json_string(kind.second), n);
-    first = false;
+    j.begin_object().key("class").value(kind.first).key("label").value(kind.second);
+    j.key("count").value(n).end_object();
   }
-  fmt::print("], \"action_kinds\": [");
-  first = true;
+  j.end_array();
+  j.key("action_kinds").begin_array();
   for (const auto& [kind, n] : s.action_kinds) {
-    fmt::print("{}{{\"class\": {}, \"count\": {}}}", first ? "" : ", ", json_string(kind), n);
-    first = false;
+    j.begin_object().key("class").value(kind).key("count").value(n).end_object();
   }
-  fmt::print("]}}\n");
+  j.end_array();
+  if (s.carmen) {
+    j.key("carmen_max_range").begin_object();
+    j.key("flaser").value(s.carmen->front_max_range);
+    j.key("flaser_from_log").value(s.carmen->front_max_range_from_log);
+    j.key("rlaser").value(s.carmen->rear_max_range);
+    j.key("rlaser_from_log").value(s.carmen->rear_max_range_from_log);
+    j.end_object();
+  }
+  write_issues(j, {});
+  j.end_object();
+  fmt::print("{}\n", j.str());
 }
 
 // What a job kept and dropped, per class, on stdout.
 void print_job(const std::string& verb, const std::string& in, const std::string& out,
                const RawlogJobResult& r) {
-  fmt::print("{} {} ({}) -> {}\n", verb, in, to_string(r.input_format), out);
+  fmt::print("{} {} ({}) -> {}\n", verb, printable(in), to_string(r.input_format), printable(out));
   fmt::print("entries: {} read, {} written\n", r.entries_in, r.entries_out);
   fmt::print("kept:\n");
   for (const auto& [k, n] : r.kept) fmt::print("  {:>8}  {}\n", n, k);
@@ -211,15 +246,47 @@ void print_job(const std::string& verb, const std::string& in, const std::string
   for (const auto& [k, n] : r.dropped) fmt::print("  {:>8}  {}\n", n, k);
 }
 
-void print_export(const std::string& in, const RawlogJobResult& r, const std::string& what) {
-  if (r.files.empty()) {
-    fmt::print("{}: no {} found; nothing written\n", in, what);
-    return;
-  }
+void print_export(const RawlogJobResult& r) {
   for (std::size_t i = 0; i < r.files.size(); ++i) {
-    fmt::print("wrote {} ({} rows)\n", r.files[i], r.rows[i]);
+    fmt::print("wrote {} ({} rows)\n", printable(r.files[i]), r.rows[i]);
   }
 }
+
+// Runs a job: a selection that finds nothing names the command-line flag
+// that asked for it; Ctrl-C says that the output was not written.
+// `flags` maps option names to the flags that set them; with `rename`, the
+// option names in the message are replaced by the flags too.
+template <typename Job>
+RawlogJobResult run_job(const std::string& out, const std::map<std::string, std::string>& flags,
+                        bool rename, const Job& job) {
+  try {
+    return job();
+  } catch (const SelectionError& e) {
+    std::string option = e.option();
+    std::string named;
+    std::string message = e.message();
+    for (const auto& [field, flag] : flags) {
+      for (std::size_t at = message.find(field); rename && at != std::string::npos;
+           at = message.find(field, at + flag.size())) {
+        message.replace(at, field.size(), flag);
+      }
+      if (option.find(field) != std::string::npos) {
+        if (!named.empty()) named += ", ";
+        named += flag;
+      }
+    }
+    throw Error(named.empty() ? message : named + ": " + message);
+  } catch (const Interrupted&) {
+    fmt::print(stderr, "rove: interrupted: {} not written (nothing was written)\n", printable(out));
+    throw;
+  }
+}
+
+const std::map<std::string, std::string> kCutFlags = {{"from_index", "--from"},
+                                                      {"to_index", "--to"},
+                                                      {"from_time", "--from-time"},
+                                                      {"to_time", "--to-time"}};
+const std::map<std::string, std::string> kLabelFlag = {{"label", "--label"}};
 
 RoveRawlogWriterOptions writer_options(bool gzip) {
   RoveRawlogWriterOptions w;
@@ -237,6 +304,7 @@ struct JobOptions {
   std::optional<double> from_time, to_time;
   std::uint64_t every = 1;
   std::string label;
+  float max_range = kDefaultCarmenMaxRange;
 };
 
 void add_io(CLI::App* cmd, JobOptions& o, const std::string& out_help) {
@@ -245,6 +313,7 @@ void add_io(CLI::App* cmd, JobOptions& o, const std::string& out_help) {
       ->check(CLI::ExistingFile);
   cmd->add_option("output", o.out, out_help)->required();
   cmd->add_flag("!--no-progress", o.progress, "Do not report progress on stderr");
+  add_max_range(cmd, o.max_range);
 }
 
 }  // namespace
@@ -262,9 +331,11 @@ void add_rawlog_command(CLI::App& app) {
       ->check(CLI::ExistingFile);
   info->add_flag("--json", options->json, "Print one JSON object instead of text");
   info->add_flag("!--no-progress", options->progress, "Do not report progress on stderr");
+  add_max_range(info, options->max_range);
   info->callback([options] {
     RawlogFormat format = RawlogFormat::kMrpt;
-    const RawlogSummary s = summarize(options->file, options->progress, format);
+    const RawlogSummary s =
+        summarize(options->file, options->progress, options->max_range, format);
     if (options->json) {
       print_json(options->file, format, s);
     } else {
@@ -289,8 +360,10 @@ void add_rawlog_command(CLI::App& app) {
     if (job->layout == 1) o.layout = RawlogLayout::kActionsSensoryFrames;
     if (job->layout == 2) o.layout = RawlogLayout::kObservations;
     o.write = writer_options(job->gzip);
+    o.read = read_options(job->max_range);
     FileProgress progress(job->in, job->progress, "converting");
-    const RawlogJobResult r = convert_rawlog(job->in, job->out, o, progress.fn());
+    const RawlogJobResult r =
+        run_job(job->out, {}, false, [&] { return convert_rawlog(job->in, job->out, o, progress.fn()); });
     progress.finish();
     print_job("converted", job->in, job->out, r);
   });
@@ -305,10 +378,12 @@ void add_rawlog_command(CLI::App& app) {
   scans->callback([job] {
     TextExportOptions o;
     o.label = job->label;
+    o.read = read_options(job->max_range);
     FileProgress progress(job->in, job->progress, "exporting");
-    const RawlogJobResult r = export_scans_txt(job->in, job->out, o, progress.fn());
+    const RawlogJobResult r = run_job(
+        job->out, kLabelFlag, false, [&] { return export_scans_txt(job->in, job->out, o, progress.fn()); });
     progress.finish();
-    print_export(job->in, r, "2D scans");
+    print_export(r);
   });
 
   auto* odometry = rawlog->add_subcommand(
@@ -321,10 +396,13 @@ void add_rawlog_command(CLI::App& app) {
   odometry->callback([job] {
     TextExportOptions o;
     o.label = job->label;
+    o.read = read_options(job->max_range);
     FileProgress progress(job->in, job->progress, "exporting");
-    const RawlogJobResult r = export_odometry_txt(job->in, job->out, o, progress.fn());
+    const RawlogJobResult r = run_job(job->out, kLabelFlag, false, [&] {
+      return export_odometry_txt(job->in, job->out, o, progress.fn());
+    });
     progress.finish();
-    print_export(job->in, r, "odometry");
+    print_export(r);
   });
 
   auto* cut = rawlog->add_subcommand(
@@ -341,14 +419,24 @@ void add_rawlog_command(CLI::App& app) {
     if (!job->from_index && !job->to_index && !job->from_time && !job->to_time) {
       throw CLI::ValidationError("cut", "give at least one of --from, --to, --from-time, --to-time");
     }
+    if (job->from_index && job->to_index && *job->from_index > *job->to_index) {
+      throw CLI::ValidationError(
+          "--from", fmt::format("{} is after --to {}", *job->from_index, *job->to_index));
+    }
+    if (job->from_time && job->to_time && *job->from_time > *job->to_time) {
+      throw CLI::ValidationError(
+          "--from-time", fmt::format("{} is after --to-time {}", *job->from_time, *job->to_time));
+    }
     CutOptions o;
     o.from_index = job->from_index;
     o.to_index = job->to_index;
     o.from_time = job->from_time;
     o.to_time = job->to_time;
     o.write = writer_options(job->gzip);
+    o.read = read_options(job->max_range);
     FileProgress progress(job->in, job->progress, "cutting");
-    const RawlogJobResult r = cut_rawlog(job->in, job->out, o, progress.fn());
+    const RawlogJobResult r =
+        run_job(job->out, kCutFlags, true, [&] { return cut_rawlog(job->in, job->out, o, progress.fn()); });
     progress.finish();
     print_job("cut", job->in, job->out, r);
   });
@@ -367,8 +455,10 @@ void add_rawlog_command(CLI::App& app) {
     DecimateOptions o;
     o.every = job->every;
     o.write = writer_options(job->gzip);
+    o.read = read_options(job->max_range);
     FileProgress progress(job->in, job->progress, "decimating");
-    const RawlogJobResult r = decimate_rawlog(job->in, job->out, o, progress.fn());
+    const RawlogJobResult r = run_job(
+        job->out, {}, false, [&] { return decimate_rawlog(job->in, job->out, o, progress.fn()); });
     progress.finish();
     print_job("decimated", job->in, job->out, r);
   });

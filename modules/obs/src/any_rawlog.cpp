@@ -1,14 +1,22 @@
 #include "rove/obs/any_rawlog.h"
 
+#include <fmt/format.h>
+
 #include <array>
 #include <cstring>
 #include <utility>
 
 #include "rove/core/error.h"
+#include "rove/core/files.h"
+#include "rove/obs/carmen_log.h"
 #include "rove/serialization/input_file.h"
 
 namespace rove {
 namespace {
+
+// How much of a text file is searched for a CARMEN message line (a log's
+// comments and PARAM lines come first; they take a few KiB).
+constexpr std::size_t kCarmenSniffBytes = std::size_t{256} << 10;
 
 bool is_text_byte(unsigned char c) { return c == '\t' || c == '\n' || c == '\r' || (c >= 0x20 && c < 0x7f); }
 
@@ -24,6 +32,7 @@ std::string_view to_string(RawlogFormat format) noexcept {
 }
 
 RawlogFormat detect_rawlog_format(const std::string& path) {
+  check_regular_input(path, "rawlog");
   std::unique_ptr<InStream> in = open_input_file(path);
   std::array<std::byte, 8> head{};
   std::size_t n = 0;
@@ -39,12 +48,27 @@ RawlogFormat detect_rawlog_format(const std::string& path) {
   if (n == head.size() && std::memcmp(head.data(), kRoveRawlogMagic.data(), head.size()) == 0) {
     return RawlogFormat::kRove;
   }
-  if (n >= 3 && std::memcmp(head.data(), "BZh", 3) == 0) return RawlogFormat::kCarmen;
+  const bool bzip2 = n >= 3 && std::memcmp(head.data(), "BZh", 3) == 0;
   bool text = true;
   for (std::size_t i = 0; i < n; ++i) {
     text = text && is_text_byte(std::to_integer<unsigned char>(head[i]));
   }
-  return text ? RawlogFormat::kCarmen : RawlogFormat::kMrpt;
+  if (!bzip2 && !text) return RawlogFormat::kMrpt;
+  // Text (or bzip2): a CARMEN log only if it holds CARMEN message lines.
+  if (!bzip2 && is_gzip_file(path)) {
+    throw ParseError({path, std::nullopt, 0, "format"},
+                     "gzip-compressed text: rove reads CARMEN logs plain or bzip2-compressed "
+                     "(decompress it first); it is not a rove or MRPT rawlog");
+  }
+  if (!looks_like_carmen_log(path, kCarmenSniffBytes)) {
+    throw ParseError({path, std::nullopt, 0, "format"},
+                     fmt::format("not a rove rawlog, MRPT rawlog or CARMEN log: {} with no CARMEN "
+                                 "message line (FLASER, RLASER, ROBOTLASER1, ODOM, TRUEPOS, "
+                                 "PARAM, ...) in its first {} KiB",
+                                 bzip2 ? "bzip2-compressed text" : "text",
+                                 kCarmenSniffBytes / 1024));
+  }
+  return RawlogFormat::kCarmen;
 }
 
 AnyRawlogReader::AnyRawlogReader(const std::string& path, AnyRawlogOptions options)
@@ -57,10 +81,6 @@ AnyRawlogReader::AnyRawlogReader(const std::string& path, AnyRawlogOptions optio
       mrpt_ = std::make_unique<RawlogReader>(path, options.mrpt);
       break;
     case RawlogFormat::kCarmen:
-      if (is_gzip_file(path)) {
-        throw ParseError({path, std::nullopt, 0, "format"},
-                         "a gzip-compressed CARMEN log: decompress it (or use bzip2) first");
-      }
       carmen_ = std::make_unique<CarmenRawlogSource>(
           CarmenRawlogSource::open(path, std::move(options.carmen)));
       break;
@@ -77,6 +97,17 @@ std::optional<RawlogEntry> AnyRawlogReader::next() {
     e = mrpt_->next();
   } else {
     e = carmen_->next();
+    if (!e) {
+      const CarmenLogStats& s = carmen_->stats().log;
+      if (s.records() == 0) {
+        throw ParseError(
+            {path_, s.lines, std::nullopt, "records"},
+            fmt::format("no CARMEN record (FLASER, RLASER, ROBOTLASER1, ODOM, TRUEPOS) in its {} "
+                        "lines ({} PARAM, {} SYNC, {} of other messages, {} comments, {} "
+                        "malformed): not a robot log",
+                        s.lines, s.param, s.sync, s.other, s.comments, s.malformed));
+      }
+    }
   }
   if (e) ++entries_;
   return e;

@@ -139,7 +139,10 @@ struct CarmenLogReader::Impl {
   Impl(detail::CarmenRawSource source, std::string name, CarmenLogOptions opts)
       : source_name(name),
         options(std::move(opts)),
-        lines(std::move(source), std::move(name), options.max_line_bytes) {}
+        lines(std::move(source), std::move(name), options.max_line_bytes) {
+    stats.front_max_range = options.flaser_max_range;
+    stats.rear_max_range = options.flaser_max_range;
+  }
 
   std::string source_name;
   CarmenLogOptions options;
@@ -190,7 +193,8 @@ struct CarmenLogReader::Impl {
     auto scan = std::make_unique<RangeScan2D>();
     scan->aperture = kPi;
     scan->right_to_left = true;
-    scan->max_range = options.flaser_max_range;
+    scan->max_range =
+        r.type == CarmenMessage::kRlaser ? stats.rear_max_range : stats.front_max_range;
     scan->set_ranges(std::move(ranges));
     scan->timestamp = r.timestamp;
     scan->sensor_label =
@@ -276,6 +280,30 @@ struct CarmenLogReader::Impl {
     r.scan = std::move(scan);
   }
 
+  /// PARAM name value ...: the laser maximum ranges; other parameters are
+  /// only counted.
+  void read_param() {
+    if (tokens.size() < 3) return;
+    const bool front = tokens[1] == "robot_front_laser_max";
+    const bool rear = tokens[1] == "robot_rear_laser_max";
+    if (!front && !rear) return;
+    const std::string field = "PARAM " + std::string(tokens[1]);
+    const std::string_view t = tokens[2];
+    double v = 0.0;
+    const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (ec != std::errc() || ptr != t.data() + t.size() || !std::isfinite(v) || !(v > 0.0) ||
+        v > static_cast<double>(std::numeric_limits<float>::max())) {
+      throw LineProblem{field, "not a positive range in meters: '" + std::string(t) + "'"};
+    }
+    if (front) {
+      stats.front_max_range = static_cast<float>(v);
+      stats.front_max_range_from_log = true;
+    } else {
+      stats.rear_max_range = static_cast<float>(v);
+      stats.rear_max_range_from_log = true;
+    }
+  }
+
   /// Parses a data line; returns true if it produced a record.
   bool parse(CarmenRecord& r) {
     const std::string_view name = tokens[0];
@@ -286,7 +314,10 @@ struct CarmenLogReader::Impl {
     else if (name == "ROBOTLASER1") type = CarmenMessage::kRobotLaser1;
     else if (name == "TRUEPOS") type = CarmenMessage::kTruePos;
     if (!type) {
-      if (name == "PARAM") ++stats.param;
+      if (name == "PARAM") {
+        ++stats.param;
+        read_param();
+      }
       else if (name == "SYNC") ++stats.sync;
       else ++stats.other;
       return false;
@@ -352,8 +383,16 @@ CarmenLogReader::CarmenLogReader(CarmenLogReader&&) noexcept = default;
 CarmenLogReader& CarmenLogReader::operator=(CarmenLogReader&&) noexcept = default;
 CarmenLogReader::~CarmenLogReader() = default;
 
-CarmenLogReader CarmenLogReader::open(const std::string& path, CarmenLogOptions options) {
+namespace {
+void check_options(const CarmenLogOptions& options) {
   ROVE_CHECK_GT(options.max_line_bytes, std::size_t{0});
+  ROVE_CHECK_MSG(std::isfinite(options.flaser_max_range) && options.flaser_max_range > 0.0f,
+                 "CARMEN maximum range {} m must be finite and > 0", options.flaser_max_range);
+}
+}  // namespace
+
+CarmenLogReader CarmenLogReader::open(const std::string& path, CarmenLogOptions options) {
+  check_options(options);
   ROVE_CHECK(options.start_time.valid());
   return CarmenLogReader(
       std::make_unique<Impl>(detail::CarmenRawSource::file(path), path, std::move(options)));
@@ -361,7 +400,7 @@ CarmenLogReader CarmenLogReader::open(const std::string& path, CarmenLogOptions 
 
 CarmenLogReader CarmenLogReader::from_memory(std::string bytes, std::string source,
                                              CarmenLogOptions options) {
-  ROVE_CHECK_GT(options.max_line_bytes, std::size_t{0});
+  check_options(options);
   ROVE_CHECK(options.start_time.valid());
   return CarmenLogReader(std::make_unique<Impl>(detail::CarmenRawSource::memory(std::move(bytes)),
                                                 std::move(source), std::move(options)));
@@ -370,6 +409,32 @@ CarmenLogReader CarmenLogReader::from_memory(std::string bytes, std::string sour
 bool CarmenLogReader::next(CarmenRecord& record) { return impl_->next(record); }
 
 const CarmenLogStats& CarmenLogReader::stats() const noexcept { return impl_->stats; }
+
+bool is_carmen_message_name(std::string_view name) noexcept {
+  static constexpr std::string_view kNames[] = {
+      "FLASER",    "RLASER",    "ODOM",      "ROBOTLASER1", "TRUEPOS",     "PARAM",
+      "SYNC",      "RAWLASER1", "RAWLASER2", "RAWLASER3",   "RAWLASER4",   "ROBOTLASER2",
+      "NMEAGGA",   "NMEARMC"};
+  for (const std::string_view n : kNames) {
+    if (name == n) return true;
+  }
+  return false;
+}
+
+bool looks_like_carmen_log(const std::string& path, std::size_t max_bytes) {
+  detail::CarmenLineReader lines(detail::CarmenRawSource::file(path), path, max_bytes);
+  std::string line;
+  std::vector<std::string_view> tokens;
+  std::size_t seen = 0;
+  bool too_long = false;
+  while (seen < max_bytes && lines.next(line, too_long)) {
+    seen += line.size() + 1;
+    split(line, tokens);
+    if (tokens.empty() || tokens[0].front() == '#') continue;
+    if (is_carmen_message_name(tokens[0])) return true;
+  }
+  return false;
+}
 
 CarmenLogStats count_carmen_log(const std::string& path, const CarmenLogOptions& options) {
   CarmenLogReader reader = CarmenLogReader::open(path, options);

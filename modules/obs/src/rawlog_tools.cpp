@@ -1,9 +1,13 @@
 #include "rove/obs/rawlog_tools.h"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
+#include <filesystem>
 #include <deque>
 #include <memory>
 #include <type_traits>
@@ -11,6 +15,9 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
+#include "rove/core/interrupt.h"
+#include "rove/obs/selection_error.h"
 #include "rove/obs/action_collection.h"
 #include "rove/obs/robot_movement_2d.h"
 #include "rove/obs/sensory_frame.h"
@@ -78,6 +85,48 @@ void finish(RawlogJobResult& r, RoveRawlogWriter& writer) {
   r.entries_out = writer.entries_written();
 }
 
+// Refuses an output that is the input (it would be destroyed before it is
+// read).
+void check_in_out(const std::string& in, const std::string& out) {
+  check_outputs_distinct({std::filesystem::path(in)}, {std::filesystem::path(out)});
+}
+
+std::string format_seconds(double s) { return fmt::format("{:.6f}", s); }
+
+// What a log holds, for the message of a selection that found nothing.
+struct LogExtent {
+  std::uint64_t entries = 0;
+  std::optional<double> first_time, last_time;
+  void add(const RawlogEntry& e) {
+    ++entries;
+    if (const auto t = entry_time(e)) {
+      const double s = t->to_seconds();
+      if (!first_time || s < *first_time) first_time = s;
+      if (!last_time || s > *last_time) last_time = s;
+    }
+  }
+  std::string describe(const std::string& in) const {
+    std::string d = fmt::format("{} has {} entries", in, entries);
+    if (entries > 0) d += fmt::format(" (indices 0..{})", entries - 1);
+    if (first_time) {
+      d += fmt::format(", times {} .. {} s", format_seconds(*first_time), format_seconds(*last_time));
+    } else {
+      d += ", none timestamped";
+    }
+    return d;
+  }
+};
+
+// A label list for messages: "'LASER' (224), 'LASER_REAR' (12)".
+std::string describe_labels(const std::map<std::string, std::uint64_t>& labels) {
+  std::string d;
+  for (const auto& [label, n] : labels) {
+    if (!d.empty()) d += ", ";
+    d += fmt::format("'{}' ({})", label, n);
+  }
+  return d;
+}
+
 // Composes consecutive RobotMovement2D actions into one (decimation and
 // layout conversion).
 struct MovementAccumulator {
@@ -116,14 +165,23 @@ struct MovementAccumulator {
 };
 
 // Text output files keyed by sensor label, named as rawlog-edit names them
-// (`<out stem>_<label>.txt`); when the job ends with a single label, that
-// file is renamed to `out`. Rows go to disk as they come (constant memory).
+// (`<out stem>_<label>.txt`; `out` itself when the job ends with a single
+// label). Rows go to temporary files beside `out` as they come (constant
+// memory); finish() renames them to their names, so an error or Ctrl-C
+// leaves no partial file and no older file half-overwritten.
 class LabelFiles {
  public:
-  LabelFiles(std::string out, RawlogJobResult& result) : out_(std::move(out)), result_(result) {}
+  LabelFiles(std::string in, std::string out, RawlogJobResult& result)
+      : in_(std::move(in)), out_(std::move(out)), result_(result) {
+    check_in_out(in_, out_);
+  }
   ~LabelFiles() {
     for (auto& f : files_) {
       if (f.file != nullptr) std::fclose(f.file);
+      if (!f.committed) {
+        std::error_code ec;
+        std::filesystem::remove(f.tmp, ec);
+      }
     }
   }
   LabelFiles(const LabelFiles&) = delete;
@@ -142,9 +200,14 @@ class LabelFiles {
                                           f.label, label));
         }
       }
-      std::FILE* file = std::fopen(path.c_str(), "w");
-      if (file == nullptr) throw IoError(path, "cannot open for writing");
-      files_.push_back(Label{label, path, file, 0});
+      check_in_out(in_, path);
+      const std::filesystem::path tmp = temporary_sibling(out_);
+      std::FILE* file = std::fopen(tmp.c_str(), "wx");
+      if (file == nullptr) {
+        throw IoError(path, fmt::format("cannot create a temporary file beside it: {}",
+                                        std::strerror(errno)));
+      }
+      files_.push_back(Label{label, path, tmp, file, 0, false});
       l = &files_.back();
       std::fprintf(file, "%% %16s %s\n", "Time", header.c_str());
     }
@@ -152,20 +215,22 @@ class LabelFiles {
     ++l->rows;
   }
 
+  std::size_t size() const noexcept { return files_.size(); }
+
   void finish() {
     for (auto& f : files_) {
       const bool bad = std::ferror(f.file) != 0;
+      const bool flush_failed = std::fflush(f.file) != 0 || ::fsync(::fileno(f.file)) != 0;
       const bool close_failed = std::fclose(f.file) != 0;
       f.file = nullptr;
-      if (bad || close_failed) throw IoError(f.path, "write failed");
+      if (bad || flush_failed || close_failed) throw IoError(f.path, "write failed");
     }
-    if (files_.size() == 1 && files_[0].path != out_) {
-      if (std::rename(files_[0].path.c_str(), out_.c_str()) != 0) {
-        throw IoError(out_, "cannot rename " + files_[0].path + " to it");
-      }
-      files_[0].path = out_;
-    }
-    for (const auto& f : files_) {
+    if (files_.size() == 1) files_[0].path = out_;
+    for (auto& f : files_) {
+      std::error_code ec;
+      std::filesystem::rename(f.tmp, f.path, ec);
+      if (ec) throw IoError(f.path, "cannot rename the finished temporary file to it: " + ec.message());
+      f.committed = true;
       result_.files.push_back(f.path);
       result_.rows.push_back(f.rows);
     }
@@ -174,8 +239,10 @@ class LabelFiles {
  private:
   struct Label {
     std::string label, path;
+    std::filesystem::path tmp;
     std::FILE* file;
     std::uint64_t rows;
+    bool committed;
   };
   std::string split_name(const std::string& label) const {
     std::string stem = out_;
@@ -190,7 +257,7 @@ class LabelFiles {
     }
     return stem + "_" + clean + ".txt";
   }
-  std::string out_;
+  std::string in_, out_;
   RawlogJobResult& result_;
   std::deque<Label> files_;
 };
@@ -238,11 +305,13 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
                      *options.layout == RawlogLayout::kObservations,
                  "convert_rawlog: the output layout is #1 or #2");
   options.motion_model.check();
+  check_in_out(in, out);
   AnyRawlogOptions read = options.read;
   if (options.layout) read.carmen.layout = *options.layout;
   AnyRawlogReader reader(in, read);
   RawlogJobResult r;
   r.input_format = reader.format();
+  write_file_atomically(out, [&](const std::filesystem::path& tmp) {
   // The output layout: as requested, else the input's; an MRPT file
   // declares none, so its first entry decides (a later entry of the other
   // kind is then converted as below).
@@ -250,7 +319,7 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
   RawlogLayout out_layout = options.layout.value_or(
       reader.declared_layout().value_or(first ? layout_of({*first}) : RawlogLayout::kActionsSensoryFrames));
   if (out_layout == RawlogLayout::kEmpty) out_layout = RawlogLayout::kActionsSensoryFrames;
-  RoveRawlogWriter writer(out, with_metadata(options.write, in, r.input_format, out_layout));
+  RoveRawlogWriter writer(tmp.string(), with_metadata(options.write, in, r.input_format, out_layout));
 
   // #1 → #2 state.
   Pose2 odometry;  // integrated
@@ -275,6 +344,7 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
   };
 
   for (std::optional<RawlogEntry> e = std::move(first); e; e = reader.next()) {
+    throw_if_interrupted();
     ++r.entries_in;
     const bool is_obs = std::holds_alternative<ObsPtr>(*e);
     if (out_layout == RawlogLayout::kMixed || layout_of({*e}) == out_layout) {
@@ -335,6 +405,7 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
     r.dropped["entry of unknown class"] += rv->skipped_entries();
   }
   finish(r, writer);
+  });
   return r;
 }
 
@@ -342,42 +413,76 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
 
 RawlogJobResult cut_rawlog(const std::string& in, const std::string& out,
                            const CutOptions& options, const RawlogProgressFn& progress) {
-  if (options.from_index && options.to_index) {
-    ROVE_CHECK_LE(*options.from_index, *options.to_index);
+  if (options.from_index && options.to_index && *options.from_index > *options.to_index) {
+    throw InvalidArgument(fmt::format("cut_rawlog: from_index {} is after to_index {}",
+                                      *options.from_index, *options.to_index));
   }
-  if (options.from_time) ROVE_CHECK_FINITE(*options.from_time);
-  if (options.to_time) ROVE_CHECK_FINITE(*options.to_time);
-  if (options.from_time && options.to_time) ROVE_CHECK_LE(*options.from_time, *options.to_time);
+  if ((options.from_time && !std::isfinite(*options.from_time)) ||
+      (options.to_time && !std::isfinite(*options.to_time))) {
+    throw InvalidArgument("cut_rawlog: from_time and to_time must be finite");
+  }
+  if (options.from_time && options.to_time && *options.from_time > *options.to_time) {
+    throw InvalidArgument(fmt::format("cut_rawlog: from_time {} is after to_time {}",
+                                      format_seconds(*options.from_time),
+                                      format_seconds(*options.to_time)));
+  }
+  check_in_out(in, out);
   AnyRawlogReader reader(in, options.read);
   RawlogJobResult r;
   r.input_format = reader.format();
-  RoveRawlogWriter writer(out, with_metadata(options.write, in, r.input_format,
-                                             input_layout(reader)));
-  bool previous_passed = !options.from_time;
-  std::uint64_t index = 0;
-  while (auto e = reader.next()) {
-    ++r.entries_in;
-    const std::uint64_t i = index++;
-    bool keep = (!options.from_index || i >= *options.from_index) &&
-                (!options.to_index || i <= *options.to_index);
-    if (options.from_time || options.to_time) {
-      if (const auto t = entry_time(*e)) {
-        const double s = t->to_seconds();
-        previous_passed = (!options.from_time || s >= *options.from_time) &&
-                          (!options.to_time || s <= *options.to_time);
+  write_file_atomically(out, [&](const std::filesystem::path& tmp) {
+    RoveRawlogWriter writer(tmp.string(), with_metadata(options.write, in, r.input_format,
+                                                        input_layout(reader)));
+    bool previous_passed = !options.from_time;
+    LogExtent extent;
+    std::uint64_t kept = 0;
+    while (auto e = reader.next()) {
+      throw_if_interrupted();
+      ++r.entries_in;
+      const std::uint64_t i = extent.entries;
+      extent.add(*e);
+      bool keep = (!options.from_index || i >= *options.from_index) &&
+                  (!options.to_index || i <= *options.to_index);
+      if (options.from_time || options.to_time) {
+        if (const auto t = entry_time(*e)) {
+          const double sec = t->to_seconds();
+          previous_passed = (!options.from_time || sec >= *options.from_time) &&
+                            (!options.to_time || sec <= *options.to_time);
+        }
+        keep = keep && previous_passed;
       }
-      keep = keep && previous_passed;
+      if (keep) {
+        writer.write(*e);
+        count_entry(r.kept, *e);
+        ++kept;
+      } else {
+        count_entry(r.dropped, *e);
+      }
+      if (progress) progress(reader);
+      // Past the last index: stop, unless nothing was kept (then the rest
+      // is read only to say what the log holds).
+      if (options.to_index && i >= *options.to_index && kept > 0) break;
     }
-    if (keep) {
-      writer.write(*e);
-      count_entry(r.kept, *e);
-    } else {
-      count_entry(r.dropped, *e);
+    if (kept == 0) {
+      std::string asked;
+      std::string option;
+      auto add = [&](const char* name, const std::string& value) {
+        if (!asked.empty()) asked += ", ";
+        asked += fmt::format("{} {}", name, value);
+        if (!option.empty()) option += ",";
+        option += name;
+      };
+      if (options.from_index) add("from_index", std::to_string(*options.from_index));
+      if (options.to_index) add("to_index", std::to_string(*options.to_index));
+      if (options.from_time) add("from_time", format_seconds(*options.from_time));
+      if (options.to_time) add("to_time", format_seconds(*options.to_time));
+      throw SelectionError(option, fmt::format("{} {} no entry: {}; nothing written",
+                                               asked.empty() ? "the bounds" : asked,
+                                               asked.empty() ? "select" : "selects",
+                                               extent.describe(in)));
     }
-    if (progress) progress(reader);
-    if (options.to_index && i >= *options.to_index) break;
-  }
-  finish(r, writer);
+    finish(r, writer);
+  });
   return r;
 }
 
@@ -386,15 +491,18 @@ RawlogJobResult cut_rawlog(const std::string& in, const std::string& out,
 RawlogJobResult decimate_rawlog(const std::string& in, const std::string& out,
                                 const DecimateOptions& options, const RawlogProgressFn& progress) {
   ROVE_CHECK_GE(options.every, std::uint64_t{1});
+  check_in_out(in, out);
   AnyRawlogReader reader(in, options.read);
   RawlogJobResult r;
   r.input_format = reader.format();
-  RoveRawlogWriter writer(out, with_metadata(options.write, in, r.input_format,
-                                             input_layout(reader)));
+  write_file_atomically(out, [&](const std::filesystem::path& tmp) {
+  RoveRawlogWriter writer(tmp.string(), with_metadata(options.write, in, r.input_format,
+                                                      input_layout(reader)));
   MovementAccumulator moves;
   std::uint64_t frames = 0;
   std::uint64_t observations = 0;
   while (auto e = reader.next()) {
+    throw_if_interrupted();
     ++r.entries_in;
     if (auto* ac = std::get_if<ActionsPtr>(&*e)) {
       for (const auto& a : (*ac)->actions) {
@@ -433,6 +541,7 @@ RawlogJobResult decimate_rawlog(const std::string& in, const std::string& out,
     ++r.dropped[std::string(RobotMovement2D::kClassName) + " (after the last kept frame)"];
   }
   finish(r, writer);
+  });
   return r;
 }
 
@@ -441,13 +550,17 @@ RawlogJobResult decimate_rawlog(const std::string& in, const std::string& out,
 RawlogJobResult export_scans_txt(const std::string& in, const std::string& out,
                                  const TextExportOptions& options,
                                  const RawlogProgressFn& progress) {
-  AnyRawlogReader reader(in, options.read);
   RawlogJobResult r;
+  LabelFiles files(in, out, r);
+  AnyRawlogReader reader(in, options.read);
   r.input_format = reader.format();
-  LabelFiles files(out, r);
+  std::map<std::string, std::uint64_t> labels;  // every 2D scan's label
+  std::map<std::string, std::uint64_t> classes;
   auto export_one = [&](const Observation& o) {
+    ++classes[std::string(o.class_name())];
     const auto* scan = dynamic_cast<const RangeScan2D*>(&o);
     if (scan == nullptr) return;
+    ++labels[scan->sensor_label];
     if (!options.label.empty() && scan->sensor_label != options.label) return;
     if (!scan->timestamp.valid()) no_time(reader, "RangeScan2D");
     std::string header = "RANGES[i] ... VALID[i]";
@@ -460,13 +573,25 @@ RawlogJobResult export_scans_txt(const std::string& in, const std::string& out,
     ++r.kept[std::string(RangeScan2D::kClassName)];
   };
   while (auto e = reader.next()) {
+    throw_if_interrupted();
     ++r.entries_in;
     if (auto* sf = std::get_if<FramePtr>(&*e)) {
       for (const auto& o : (*sf)->observations) export_one(*o);
     } else if (auto* o = std::get_if<ObsPtr>(&*e)) {
       export_one(**o);
+    } else {
+      count_entry(classes, *e);
     }
     if (progress) progress(reader);
+  }
+  if (files.size() == 0) {
+    if (labels.empty()) {
+      throw SelectionError("", fmt::format("{} holds no 2D scan (it holds: {}); nothing written",
+                                           in, classes.empty() ? "nothing" : describe_labels(classes)));
+    }
+    throw SelectionError("label", fmt::format("no 2D scan has label '{}' in {}; its 2D scan labels "
+                                              "are {}; nothing written",
+                                              options.label, in, describe_labels(labels)));
   }
   files.finish();
   return r;
@@ -475,10 +600,12 @@ RawlogJobResult export_scans_txt(const std::string& in, const std::string& out,
 RawlogJobResult export_odometry_txt(const std::string& in, const std::string& out,
                                     const TextExportOptions& options,
                                     const RawlogProgressFn& progress) {
-  AnyRawlogReader reader(in, options.read);
   RawlogJobResult r;
+  LabelFiles files(in, out, r);
+  AnyRawlogReader reader(in, options.read);
   r.input_format = reader.format();
-  LabelFiles files(out, r);
+  std::map<std::string, std::uint64_t> labels;  // odometry labels present
+  std::map<std::string, std::uint64_t> classes;
   const std::string header = fmt::format(
       "{:>18} {:>18} {:>18} {:>18} {:>18} {:>18} {:>18} {:>18} {:>18} {:>18} ", "GLOBAL_ODO_X",
       "GLOBAL_ODO_Y", "GLOBAL_ODO_PHI_RAD", "HAS_ENCODERS", "LEFT_ENC_INCR_TICKS",
@@ -486,6 +613,7 @@ RawlogJobResult export_odometry_txt(const std::string& in, const std::string& ou
       "ANG_SPEED_RadPerSec");
   const std::string integrated_label = "ODOMETRY";
   auto label_ok = [&](const std::string& label) {
+    ++labels[label];
     return options.label.empty() || label == options.label;
   };
   auto add = [&](const std::string& label, Timestamp t, const Pose2& pose,
@@ -510,7 +638,9 @@ RawlogJobResult export_odometry_txt(const std::string& in, const std::string& ou
   std::vector<Waiting> waiting;
 
   while (auto e = reader.next()) {
+    throw_if_interrupted();
     ++r.entries_in;
+    count_entry(classes, *e);
     if (auto* ac = std::get_if<ActionsPtr>(&*e)) {
       for (const auto& a : (*ac)->actions) {
         const auto* m = dynamic_cast<const RobotMovement2D*>(a.get());
@@ -560,6 +690,15 @@ RawlogJobResult export_odometry_txt(const std::string& in, const std::string& ou
     if (progress) progress(reader);
   }
   if (!waiting.empty()) no_time(reader, "RobotMovement2D");
+  if (files.size() == 0) {
+    if (labels.empty()) {
+      throw SelectionError("", fmt::format("{} holds no odometry (it holds: {}); nothing written",
+                                           in, classes.empty() ? "nothing" : describe_labels(classes)));
+    }
+    throw SelectionError("label", fmt::format("no odometry has label '{}' in {}; its odometry "
+                                              "labels are {}; nothing written",
+                                              options.label, in, describe_labels(labels)));
+  }
   files.finish();
   return r;
 }

@@ -60,7 +60,7 @@ void check_log(CarmenLogReader& reader) {
   EXPECT_EQ(fl.scan->valid, (std::vector<bool>{true, true, false}));  // 90 >= 81 m
   EXPECT_DOUBLE_EQ(fl.scan->aperture, kPi);
   EXPECT_TRUE(fl.scan->right_to_left);
-  EXPECT_FLOAT_EQ(fl.scan->max_range, 81.0f);
+  EXPECT_FLOAT_EQ(fl.scan->max_range, 81.9f);  // the PARAM robot_front_laser_max line
   EXPECT_EQ(fl.scan->sensor_label, "LASER");
   EXPECT_DOUBLE_EQ(fl.laser_pose.x(), 1.0);
   EXPECT_DOUBLE_EQ(fl.laser_pose.y(), 2.0);

@@ -67,6 +67,15 @@ IcpSlamConfig load_icp_slam_config(const IniFile& ini) {
               "SHOW_PROGRESS_3D_REAL_TIME_DELAY_MS", "SHOW_LASER_SCANS_3D", "verbosity_level"},
              "MRPT icp-slam GUI/logging switch; rove writes its outputs to -o DIR");
 
+  if (ini.has_section("CARMEN")) {
+    const ConfigSection carmen(ini, "CARMEN", &cfg.ignored_keys);
+    if (carmen.has("maxRange")) {
+      cfg.carmen_max_range =
+          static_cast<float>(carmen.get_in_range("maxRange", 81.0, 1e-3, 1e6));
+    }
+    carmen.check_all_read();
+  }
+
   MultiMetricMapLoadReport report;
   cfg.map = MultiMetricMap::from_config(ini, kSec, &report);
   cfg.ignored_keys.insert(cfg.ignored_keys.end(), report.ignored_keys.begin(),
@@ -260,7 +269,14 @@ IcpSlamUpdate IcpSlam::process(const std::shared_ptr<const Observation>& observa
       const bool finite = std::isfinite(est.x()) && std::isfinite(est.y()) &&
                           std::isfinite(est.phi()) &&
                           r.termination != RegistrationTermination::Diverged;
-      if (finite && r.goodness > options_.min_icp_goodness_to_accept) {
+      if (std::isfinite(r.goodness)) {
+        stats_.icp_goodness_max = std::max(stats_.icp_goodness_max, r.goodness);
+      }
+      if (!finite) {
+        ++stats_.icp_rejected_invalid;
+      } else if (!(r.goodness > options_.min_icp_goodness_to_accept)) {
+        ++stats_.icp_rejected_goodness;
+      } else {
         up.icp_accepted = true;
         ++stats_.icp_accepted;
         estimator_.update_localization(est, obs.timestamp);

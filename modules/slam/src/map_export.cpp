@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <iterator>
 #include <limits>
 #include <memory>
 
@@ -11,41 +11,44 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
 #include "rove/maps/gray_image.h"
 #include "rove/maps/grid_image.h"
 
 namespace rove {
 namespace {
 
-void check_stream(const std::ofstream& out, const std::string& path) {
-  if (!out) throw IoError(path, "write failed");
-}
 
 }  // namespace
 
 void write_tum_trajectory(const std::string& path, const std::vector<TimedPose2>& poses) {
-  std::ofstream out(path);
-  if (!out) throw IoError(path, "cannot open for writing");
-  out << "# t x y z qx qy qz qw\n";
+  AtomicOutputFile out(path);
+  out.write("# t x y z qx qy qz qw\n");
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const auto& p = poses[i];
     const double t = p.time.valid() ? p.time.to_seconds() : static_cast<double>(i);
     const double h = 0.5 * p.pose.phi();
-    out << fmt::format("{:.6f} {:.6f} {:.6f} 0 0 0 {:.9f} {:.9f}\n", t, p.pose.x(), p.pose.y(),
-                       std::sin(h), std::cos(h));
+    out.write(fmt::format("{:.6f} {:.6f} {:.6f} 0 0 0 {:.9f} {:.9f}\n", t, p.pose.x(),
+                          p.pose.y(), std::sin(h), std::cos(h)));
   }
-  out.close();
-  check_stream(out, path);
+  out.commit();
 }
 
 void write_ply(const std::string& path, const PointCloud& cloud) {
-  std::ofstream out(path);
-  if (!out) throw IoError(path, "cannot open for writing");
-  out << "ply\nformat ascii 1.0\ncomment written by rove icp-slam\nelement vertex "
-      << cloud.size() << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
-  for (const auto& p : cloud.points()) out << fmt::format("{} {} {}\n", p.x(), p.y(), p.z());
-  out.close();
-  check_stream(out, path);
+  AtomicOutputFile out(path);
+  out.write(fmt::format("ply\nformat ascii 1.0\ncomment written by rove icp-slam\nelement vertex "
+                        "{}\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+                        cloud.size()));
+  std::string chunk;
+  for (const auto& p : cloud.points()) {
+    fmt::format_to(std::back_inserter(chunk), "{} {} {}\n", p.x(), p.y(), p.z());
+    if (chunk.size() > (std::size_t{1} << 16)) {
+      out.write(chunk);
+      chunk.clear();
+    }
+  }
+  out.write(chunk);
+  out.commit();
 }
 
 GridMapFiles write_grid_map(const std::string& prefix, const OccupancyGrid& grid) {

@@ -1,10 +1,12 @@
 #include "rove/slam/mrpt_simplemap_writer.h"
 
 #include <cstdint>
+#include <filesystem>
 #include <span>
 #include <string_view>
 
 #include "rove/core/check.h"
+#include "rove/core/files.h"
 #include "rove/obs/range_scan_2d.h"
 #include "rove/poses/pose3.h"
 #include "rove/serialization/archive.h"
@@ -87,7 +89,8 @@ SimpleMapWriteReport write_mrpt_simplemap(const std::string& path,
       ++report.skipped;
     }
   }
-  FileOutStream out(path);
+  write_file_atomically(path, [&](const std::filesystem::path& tmp) {
+  FileOutStream out(tmp.string());
   OutArchive ar(out);
   MrptWriter w(ar);
   w.begin("mrpt::maps::CSimpleMap", 1);
@@ -115,6 +118,7 @@ SimpleMapWriteReport write_mrpt_simplemap(const std::string& path,
   }
   w.end();
   out.close();
+  });
   return report;
 }
 

@@ -4,9 +4,12 @@
 /// MRPT rawlogs and CARMEN logs, told apart by their first bytes (after
 /// gunzip or bunzip2), plain or compressed.
 ///
-/// Detection: "ROVERAWL" → rove rawlog; "BZh" or printable text (CARMEN's
-/// '#' comments and message names) → CARMEN log; anything else → MRPT
-/// rawlog (MRPT objects start with a byte >= 0x80 or a small binary length).
+/// Detection: "ROVERAWL" → rove rawlog; "BZh" or printable text → CARMEN log
+/// when a line within its first 256 KiB starts with a CARMEN message name
+/// (FLASER, ODOM, PARAM, ...), else an error (a .g2o, a .pcd or any other
+/// text is not a log); anything else → MRPT rawlog (MRPT objects start with
+/// a byte >= 0x80 or a small binary length). A CARMEN log that ends without
+/// a single record is an error too, never an empty log.
 
 #include <cstdint>
 #include <memory>
@@ -31,8 +34,9 @@ enum class RawlogFormat : std::uint8_t {
 std::string_view to_string(RawlogFormat format) noexcept;
 
 /// The format of the file at `path`, from its first bytes. Throws IoError
-/// if it cannot be opened or read, ParseError (file, offset 0, "format") if
-/// it is empty.
+/// if it cannot be opened or read or is not a regular file (a directory,
+/// /dev/zero, a FIFO); ParseError (file, offset 0, "format") if it is empty,
+/// gzip-compressed text, or text without CARMEN message lines.
 RawlogFormat detect_rawlog_format(const std::string& path);
 
 /// Options of AnyRawlogReader, per format.
@@ -58,7 +62,8 @@ class AnyRawlogReader {
 
   /// The next entry, or std::nullopt at the end; errors as the format's
   /// reader (ParseError naming the file, the byte offset or line, and the
-  /// class or field).
+  /// class or field). A CARMEN log that ends without any record is a
+  /// ParseError (field "records").
   std::optional<RawlogEntry> next();
 
   /// The detected format.

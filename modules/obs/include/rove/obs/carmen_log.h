@@ -15,7 +15,9 @@
 ///   TRUEPOS true_x true_y true_theta odom_x odom_y odom_theta ipc_ts host
 ///     logger_ts
 /// Lines starting with '#' are comments; PARAM, SYNC and any other message
-/// type are skipped and counted. Units: meters, radians, seconds.
+/// type are skipped and counted (PARAM robot_front_laser_max and
+/// robot_rear_laser_max set the maximum range of the FLASER / RLASER lines
+/// after them). Units: meters, radians, seconds.
 
 #include <cstddef>
 #include <cstdint>
@@ -52,9 +54,12 @@ struct CarmenLogOptions {
   /// seconds since the logger started). Default: the Unix epoch, so that
   /// timestamp.to_seconds() equals the logger timestamp.
   Timestamp start_time = Timestamp::from_ns(0);
-  /// Maximum range, meters, given to FLASER/RLASER scans, which do not
-  /// state one. SICK scanners logged by CARMEN report about 81.9 m for "no
-  /// return"; readings >= this value (or <= 0) are flagged invalid.
+  /// Maximum range, meters, of FLASER/RLASER scans, which do not state one,
+  /// until the log's PARAM robot_front_laser_max (FLASER) or
+  /// robot_rear_laser_max (RLASER) line gives it. SICK scanners logged by
+  /// CARMEN report about 81.9 m for "no return"; some logs use another value
+  /// (ACES: 50.00 m). Readings at or above the maximum (or <= 0) are "no
+  /// return" and flagged invalid. Must be finite and > 0.
   float flaser_max_range = 81.0f;
   /// Sensor label of FLASER and ROBOTLASER1 scans.
   std::string front_laser_label = "LASER";
@@ -132,6 +137,16 @@ struct CarmenLogStats {
   std::size_t sync = 0;         ///< SYNC lines (skipped)
   std::size_t other = 0;        ///< lines of any other message type (skipped)
   std::size_t malformed = 0;    ///< malformed lines skipped (skip_malformed)
+  /// Maximum range of the FLASER / RLASER scans after the last line read,
+  /// meters (CarmenLogOptions::flaser_max_range until a PARAM sets it).
+  float front_max_range = 0.0f;
+  float rear_max_range = 0.0f;
+  /// True once a PARAM line set front_max_range / rear_max_range.
+  bool front_max_range_from_log = false;
+  bool rear_max_range_from_log = false;
+
+  /// FLASER + RLASER + ODOM + ROBOTLASER1 + TRUEPOS records.
+  std::size_t records() const noexcept { return flaser + rlaser + odom + robotlaser1 + truepos; }
 };
 
 /// Streaming CARMEN log reader: constant memory whatever the file size
@@ -171,6 +186,17 @@ class CarmenLogReader {
   explicit CarmenLogReader(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
+
+/// True if `name` is the name of a CARMEN message (the records above, PARAM,
+/// SYNC, and the other messages CARMEN's logger writes: RAWLASER1..4,
+/// ROBOTLASER2, NMEAGGA, NMEARMC).
+bool is_carmen_message_name(std::string_view name) noexcept;
+
+/// Whether the file at `path` (plain or bzip2) looks like a CARMEN log: one
+/// of its lines within the first `max_bytes` (decompressed) starts with a
+/// CARMEN message name (comments and blank lines aside). Throws IoError if
+/// it cannot be read, ParseError on corrupt bzip2 data.
+bool looks_like_carmen_log(const std::string& path, std::size_t max_bytes = std::size_t{1} << 18);
 
 /// Reads a whole log and returns its counts (records are decoded and
 /// dropped). Same errors as CarmenLogReader::next.

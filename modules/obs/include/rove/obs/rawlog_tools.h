@@ -4,6 +4,14 @@
 /// export-scans|export-odometry`: each streams its input once (any format
 /// AnyRawlogReader reads) in constant memory and writes a rove rawlog or
 /// text files, and returns what it kept and dropped.
+///
+/// Every job refuses an output that resolves to its input (IoError, before
+/// anything is opened), writes each output under a temporary name beside it
+/// and renames it only when complete (an error or Ctrl-C leaves no partial
+/// file, and an older file of that name intact), polls
+/// rove::throw_if_interrupted() once per entry, and throws SelectionError
+/// (selection_error.h) when it would write nothing: a cut outside the log,
+/// an export of a label that is not there or of a log without such data.
 
 #include <cstdint>
 #include <functional>
@@ -16,6 +24,7 @@
 #include "rove/obs/odometry_observation.h"
 #include "rove/obs/range_scan_2d.h"
 #include "rove/obs/rove_rawlog.h"
+#include "rove/obs/selection_error.h"
 
 namespace rove {
 
@@ -96,7 +105,9 @@ struct CutOptions {
 /// (same layout as the input). Entries without any timestamp pass a time
 /// bound when the entry before them did (so an action collection stays with
 /// its frame). Reading stops after to_index. Throws InvalidArgument if a
-/// lower bound exceeds its upper bound or a time is not finite.
+/// lower bound exceeds its upper bound or a time is not finite;
+/// SelectionError naming the bounds and the log's index and time range when
+/// no entry is within them (nothing is written).
 RawlogJobResult cut_rawlog(const std::string& in, const std::string& out,
                            const CutOptions& options, const RawlogProgressFn& progress = {});
 
@@ -138,6 +149,8 @@ struct TextExportOptions {
 /// <label>.txt` (MRPT's naming; characters invalid in file names become
 /// '_'). Unlike rawlog-edit, the sensory frame before the first action is
 /// exported too, and unlabeled scans are exported (as label "").
+/// Throws SelectionError (listing the labels present) when no scan matches
+/// options.label, or when the log has no 2D scan.
 RawlogJobResult export_scans_txt(const std::string& in, const std::string& out,
                                  const TextExportOptions& options = {},
                                  const RawlogProgressFn& progress = {});
@@ -152,7 +165,9 @@ RawlogJobResult export_scans_txt(const std::string& in, const std::string& out,
 /// action has none), its encoder ticks and velocity — under label
 /// "ODOMETRY"; an identity row first at the time of a frame that precedes
 /// the first action. File naming as export_scans_txt.
-/// Throws ParseError if a row would have no timestamp.
+/// Throws ParseError if a row would have no timestamp; SelectionError
+/// (listing the labels present) when nothing matches options.label or the
+/// log holds no odometry.
 RawlogJobResult export_odometry_txt(const std::string& in, const std::string& out,
                                     const TextExportOptions& options = {},
                                     const RawlogProgressFn& progress = {});

@@ -86,6 +86,11 @@ struct IcpSlamConfig {
   std::string rawlog_file;
   /// (rawlog_offset) steps to skip at the start of the rawlog.
   std::uint64_t rawlog_offset = 0;
+  /// ([CARMEN] maxRange, meters) maximum range of a CARMEN log's FLASER /
+  /// RLASER scans when the log has no PARAM line stating it; readings at or
+  /// above it are "no return" (CarmenLogOptions::flaser_max_range; unset:
+  /// its default, 81 m). Not read for rove or MRPT rawlogs.
+  std::optional<float> carmen_max_range;
   /// Keys present that have no effect in rove (GUI and logging switches of
   /// MRPT's application, map keys without effect).
   std::vector<IgnoredConfigKey> ignored_keys;
@@ -96,7 +101,9 @@ struct IcpSlamConfig {
 /// unknown key of [MappingApplication] or [ICP] is a ConfigError naming the
 /// file, section, key and line; so is a malformed or out-of-range value, and
 /// a configuration without a map to match against (no point map, and no grid
-/// when matchAgainstTheGrid).
+/// when matchAgainstTheGrid). The optional [CARMEN] section (key maxRange,
+/// the name of MRPT's CObservation2DRangeScan field) sets how CARMEN logs are
+/// read; an unknown key there is a ConfigError too.
 IcpSlamConfig load_icp_slam_config(const IniFile& ini);
 
 /// What ICP-SLAM did with one observation.
@@ -133,6 +140,13 @@ struct IcpSlamStats {
   std::size_t odometry = 0;        ///< odometry readings processed
   std::size_t icp_runs = 0;        ///< ICP alignments run
   std::size_t icp_accepted = 0;    ///< alignments accepted
+  /// Alignments rejected because their goodness was not above
+  /// min_icp_goodness_to_accept.
+  std::size_t icp_rejected_goodness = 0;
+  /// Alignments rejected because they diverged or gave a non-finite pose.
+  std::size_t icp_rejected_invalid = 0;
+  /// Highest goodness of any alignment run (0 before any).
+  double icp_goodness_max = 0.0;
   std::size_t icp_iterations = 0;  ///< sum of ICP iterations
   std::size_t insertions = 0;      ///< observations inserted (keyframes)
   double icp_seconds = 0.0;        ///< time spent in ICP (incl. target rebuilds)

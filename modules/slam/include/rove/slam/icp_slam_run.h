@@ -43,6 +43,17 @@ struct IcpSlamStep {
   double seconds = 0.0;
 };
 
+/// Something a finished run must tell its user: the map and path were
+/// built, but they are not what ICP-SLAM promises.
+struct IcpSlamIssue {
+  /// "no-icp-accepted" (ICP ran, no result passed the threshold: the path is
+  /// the odometry and the map holds the first scans only) or
+  /// "few-icp-accepted" (under min_accepted_fraction of the ICP runs).
+  std::string code;
+  /// One line for a person, with the counts and the threshold.
+  std::string message;
+};
+
 /// Options of run_icp_slam.
 struct IcpSlamRunOptions {
   /// Steps at the start of the log to skip (MRPT's rawlog_offset).
@@ -53,6 +64,9 @@ struct IcpSlamRunOptions {
   AnyRawlogOptions reader;
   /// Called after every processed step (e.g. progress), if set.
   std::function<void(const IcpSlamStep&)> on_step;
+  /// A run whose accepted ICP results are fewer than this fraction of its
+  /// ICP runs gets the "few-icp-accepted" issue. Default 0.5; in [0, 1].
+  double min_accepted_fraction = 0.5;
 };
 
 /// Result of run_icp_slam.
@@ -67,12 +81,26 @@ struct IcpSlamRunResult {
   double mapping_seconds = 0.0;
   /// Time spent reading and decoding the log, seconds.
   double read_seconds = 0.0;
+  /// Observations in the processed steps that ICP-SLAM can match (2D scans,
+  /// 3D range images).
+  std::uint64_t scans = 0;
+  /// What the result does not deliver (empty when fine); see IcpSlamIssue.
+  std::vector<IcpSlamIssue> issues;
 };
 
-/// Feeds the log at `rawlog_path` to `slam`. Throws IoError if it cannot be
-/// opened, ParseError (file, byte offset or line, class) on malformed data
+/// The issues of a run with these counters (see IcpSlamIssue), e.g. for a
+/// run fed by hand rather than by run_icp_slam.
+std::vector<IcpSlamIssue> icp_slam_issues(const IcpSlamStats& stats, const IcpSlamOptions& options,
+                                          double min_accepted_fraction = 0.5);
+
+/// Feeds the log at `rawlog_path` to `slam`, polling
+/// rove::throw_if_interrupted() once per entry. Throws IoError if it cannot
+/// be opened, ParseError (file, byte offset or line, class) on malformed data
 /// and on an observation ICP-SLAM rejects (the error names the step's
-/// offset in the file).
+/// offset in the file); SelectionError when rawlog_offset skips every step
+/// or the processed steps hold no 2D scan or range image (the message lists
+/// what the log holds). The result's `issues` list what a finished run did
+/// not deliver (few or no ICP results accepted).
 IcpSlamRunResult run_icp_slam(IcpSlam& slam, const std::string& rawlog_path,
                               const IcpSlamRunOptions& options = {});
 
