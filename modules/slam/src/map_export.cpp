@@ -16,10 +16,6 @@
 #include "rove/maps/grid_image.h"
 
 namespace rove {
-namespace {
-
-
-}  // namespace
 
 void write_tum_trajectory(const std::string& path, const std::vector<TimedPose2>& poses) {
   AtomicOutputFile out(path);
