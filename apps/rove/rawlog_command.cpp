@@ -99,18 +99,20 @@ struct RawlogSummary {
 // plain rove and MRPT files (whose reader reports byte offsets), as a count
 // of entries otherwise (gzip offsets are decompressed bytes; CARMEN logs
 // report lines).
+// The bar appears with the first entry read, so a job refused before it
+// reads anything (same file as output, not a log) prints no progress.
 class FileProgress {
  public:
-  FileProgress(const std::string& path, bool show, const std::string& label) {
-    if (!show) return;
-    const RawlogFormat format = detect_rawlog_format(path);
-    if (format != RawlogFormat::kCarmen && !is_gzip_file(path)) {
-      total_ = std::filesystem::file_size(path);
-    }
-    progress_.emplace(total_, label + " " + path, std::cerr);
-  }
+  FileProgress(const std::string& path, bool show, const std::string& label)
+      : path_(path), show_(show), label_(label) {}
   void update(const AnyRawlogReader& reader) {
-    if (!progress_) return;
+    if (!show_) return;
+    if (!progress_) {
+      if (reader.format() != RawlogFormat::kCarmen && !is_gzip_file(path_)) {
+        total_ = std::filesystem::file_size(path_);
+      }
+      progress_.emplace(total_, label_ + " " + printable(path_), std::cerr);
+    }
     if (total_) {
       progress_->set(std::min<std::uint64_t>(reader.position(), *total_));
     } else {
@@ -118,7 +120,7 @@ class FileProgress {
     }
   }
   RawlogProgressFn fn() {
-    if (!progress_) return {};
+    if (!show_) return {};
     return [this](const AnyRawlogReader& r) { update(r); };
   }
   void finish() {
@@ -126,6 +128,9 @@ class FileProgress {
   }
 
  private:
+  std::string path_;
+  bool show_;
+  std::string label_;
   std::optional<std::uint64_t> total_;
   std::optional<Progress> progress_;
 };
