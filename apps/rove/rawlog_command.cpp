@@ -379,7 +379,7 @@ void add_rawlog_command(CLI::App& app) {
       "--export-2d-scans-txt (time, ranges, validity[, intensity]); one file per sensor label: "
       "OUTPUT itself for a single label, else OUTPUT_<label>.txt");
   add_io(scans, *job, "text file to write (e.g. scans.txt)");
-  scans->add_option("--label", job->label, "Export only this sensor label");
+  scans->add_option("--label", job->label, "Export only this sensor label (default: every label)");
   scans->callback([job] {
     TextExportOptions o;
     o.label = job->label;
@@ -397,7 +397,7 @@ void add_rawlog_command(CLI::App& app) {
       "(time, x, y, phi, encoders, velocities). Layout #1 logs (where rawlog-edit writes no "
       "odometry) get the actions integrated from the identity, under label ODOMETRY");
   add_io(odometry, *job, "text file to write (e.g. odometry.txt)");
-  odometry->add_option("--label", job->label, "Export only this sensor label");
+  odometry->add_option("--label", job->label, "Export only this sensor label (default: every label)");
   odometry->callback([job] {
     TextExportOptions o;
     o.label = job->label;
@@ -415,10 +415,10 @@ void add_rawlog_command(CLI::App& app) {
       "Keep the entries between two indices (0-based, inclusive) and/or times (seconds since "
       "the Unix epoch, inclusive); writes a rove rawlog with the input's layout");
   add_io(cut, *job, "rove rawlog to write");
-  cut->add_option("--from", job->from_index, "First entry index to keep");
-  cut->add_option("--to", job->to_index, "Last entry index to keep");
-  cut->add_option("--from-time", job->from_time, "Keep entries at or after this time (s)");
-  cut->add_option("--to-time", job->to_time, "Keep entries at or before this time (s)");
+  cut->add_option("--from", job->from_index, "First entry index to keep (default: the first)");
+  cut->add_option("--to", job->to_index, "Last entry index to keep (default: the last)");
+  cut->add_option("--from-time", job->from_time, "Keep entries at or after this time, seconds since the Unix epoch (default: no bound)");
+  cut->add_option("--to-time", job->to_time, "Keep entries at or before this time, seconds since the Unix epoch (default: no bound)");
   cut->add_flag("!--no-gzip", job->gzip, "Write plain bytes instead of gzip");
   cut->callback([job] {
     if (!job->from_index && !job->to_index && !job->from_time && !job->to_time) {

@@ -315,8 +315,8 @@ struct CarmenLogReader::Impl {
     else if (name == "TRUEPOS") type = CarmenMessage::kTruePos;
     if (!type) {
       if (name == "PARAM") {
+        read_param();  // a malformed range is counted as malformed only
         ++stats.param;
-        read_param();
       }
       else if (name == "SYNC") ++stats.sync;
       else ++stats.other;

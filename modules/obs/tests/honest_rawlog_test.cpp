@@ -260,6 +260,23 @@ TEST(CarmenMaxRange, ParamLineSetsTheMaximum_Regression) {
   }
 }
 
+// A malformed PARAM range skipped as malformed is counted once.
+TEST(CarmenMaxRange, SkippedBadParamIsCountedOnce) {
+  CarmenLogOptions o;
+  o.skip_malformed = true;
+  CarmenLogReader reader = CarmenLogReader::from_memory(
+      std::string("PARAM robot_front_laser_max -3 nohost 0\n") + kScanLine, "<test>", o);
+  CarmenRecord r;
+  while (reader.next(r)) {
+  }
+  const CarmenLogStats& s = reader.stats();
+  EXPECT_EQ(s.malformed, 1u);
+  EXPECT_EQ(s.param, 0u);
+  EXPECT_EQ(s.flaser, 1u);
+  EXPECT_FLOAT_EQ(s.front_max_range, 81.0f);
+  EXPECT_FALSE(s.front_max_range_from_log);
+}
+
 // ACES: readings of exactly 50.00 m mean "no return" (11,139 of them); with
 // the maximum at 50 m none of them is a valid point.
 TEST(CarmenMaxRange, AcesNoReturnReadingsAreInvalid_Regression) {
