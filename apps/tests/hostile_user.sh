@@ -50,15 +50,15 @@ pass=0 fail=0
 expect() {
   local name=$1 regex=$2; shift 3
   local out rc
-  out=$( (eval "$limit_cmd"; exec timeout 120 "$rove" "$@") 2>&1 >/dev/null </dev/null)
+  out=$( (eval "$limit_cmd"; exec timeout -k 10 120 "$rove" "$@") 2>&1 >/dev/null </dev/null)
   rc=$?
   local why=""
   if [ $rc -eq 0 ]; then why="exit 0"
   elif [ $rc -eq 124 ]; then why="timed out (hang)"
   elif [ $rc -gt 3 ]; then why="exit $rc (crash or signal)"
   elif ! grep -Eq -- "$regex" <<<"$out"; then why="message does not match /$regex/"
-  elif grep -Eq 'check failed|ROVE_CHECK|Assertion|terminate called|AddressSanitizer|runtime error' <<<"$out"; then
-    why="message shows an internal check"
+  elif grep -Eq 'check failed|ROVE_CHECK|Assertion|terminate called|AddressSanitizer|runtime error|[0-9]{40}' <<<"$out"; then
+    why="message shows an internal check or a raw limit"
   fi
   if [ -n "$why" ]; then
     fail=$((fail + 1)); printf 'FAIL %-34s %s\n  rove %s\n%s\n' "$name" "$why" "$*" "$(head -c 1500 <<<"$out" | sed 's/^/  | /')"

@@ -19,7 +19,7 @@ extern "C" void on_signal(int sig) {
 
 }  // namespace
 
-Interrupted::Interrupted() : Error("interrupted (SIGINT/SIGTERM); stopped cleanly") {}
+Interrupted::Interrupted() : Error("interrupted by Ctrl-C (SIGINT); stopped cleanly") {}
 
 void install_interrupt_handler() {
   if (g_installed.exchange(true)) return;
@@ -28,7 +28,6 @@ void install_interrupt_handler() {
   sigemptyset(&sa.sa_mask);
   sa.sa_flags = 0;
   sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
 }
 
 bool interrupted() noexcept { return g_interrupted.load(std::memory_order_relaxed); }

@@ -46,18 +46,17 @@ class ThreadTeam {
   /// Starts max(num_threads, 1) − 1 workers.
   explicit ThreadTeam(int num_threads) : size_(std::max(1, num_threads)) {
     workers_.reserve(static_cast<std::size_t>(size_ - 1));
-    for (int t = 1; t < size_; ++t) workers_.emplace_back([this, t] { loop(t); });
+    try {
+      for (int t = 1; t < size_; ++t) workers_.emplace_back([this, t] { loop(t); });
+    } catch (...) {
+      // The system refused a thread: stop those already started, then report.
+      stop_workers();
+      throw;
+    }
   }
   ThreadTeam(const ThreadTeam&) = delete;
   ThreadTeam& operator=(const ThreadTeam&) = delete;
-  ~ThreadTeam() {
-    {
-      std::lock_guard lock(mutex_);
-      stop_ = true;
-    }
-    wake_.notify_all();
-    for (auto& w : workers_) w.join();
-  }
+  ~ThreadTeam() { stop_workers(); }
   /// Members, ≥ 1.
   int size() const noexcept { return size_; }
   /// Calls job(t) for every member t in [0, size()) — t = 0 on the calling
@@ -91,6 +90,14 @@ class ThreadTeam {
   }
 
  private:
+  void stop_workers() {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (auto& w : workers_) w.join();
+  }
   void loop(int t) {
     std::size_t seen = 0;
     while (true) {
