@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
+#include <span>
 #include <cstring>
 #include <utility>
 
@@ -17,6 +19,30 @@ namespace {
 // How much of a text file is searched for a CARMEN message line (a log's
 // comments and PARAM lines come first; they take a few KiB).
 constexpr std::size_t kCarmenSniffBytes = std::size_t{256} << 10;
+
+// An MRPT object starts with 0x80 | name length (or, before MRPT 0.5.5, a
+// u32 length below 128), then the class name: printable ASCII, 1..120 bytes.
+bool starts_with_mrpt_object(std::span<const std::byte> head) {
+  if (head.empty()) return false;
+  const auto first = std::to_integer<unsigned char>(head[0]);
+  std::size_t len = first & 0x7Fu;
+  std::size_t name_at = 1;
+  if ((first & 0x80u) == 0) {
+    if (head.size() < 4) return false;
+    for (std::size_t i = 1; i < 4; ++i) {
+      if (head[i] != std::byte{0}) return false;
+    }
+    name_at = 4;
+  }
+  if (len == 0 || len > 120) return false;
+  const std::size_t end = std::min(head.size(), name_at + len);
+  if (end <= name_at) return false;
+  for (std::size_t i = name_at; i < end; ++i) {
+    const auto c = std::to_integer<unsigned char>(head[i]);
+    if (c < 0x21 || c > 0x7e) return false;
+  }
+  return true;
+}
 
 bool is_text_byte(unsigned char c) { return c == '\t' || c == '\n' || c == '\r' || (c >= 0x20 && c < 0x7f); }
 
@@ -34,7 +60,7 @@ std::string_view to_string(RawlogFormat format) noexcept {
 RawlogFormat detect_rawlog_format(const std::string& path) {
   check_regular_input(path, "rawlog");
   std::unique_ptr<InStream> in = open_input_file(path);
-  std::array<std::byte, 8> head{};
+  std::array<std::byte, 128> head{};
   std::size_t n = 0;
   while (n < head.size()) {
     const std::size_t got = in->read_some(std::span<std::byte>(head).subspan(n));
@@ -45,15 +71,23 @@ RawlogFormat detect_rawlog_format(const std::string& path) {
     throw ParseError({path, std::nullopt, 0, "format"},
                      "empty file: not a rove rawlog, MRPT rawlog or CARMEN log");
   }
-  if (n == head.size() && std::memcmp(head.data(), kRoveRawlogMagic.data(), head.size()) == 0) {
+  if (n >= kRoveRawlogMagic.size() &&
+      std::memcmp(head.data(), kRoveRawlogMagic.data(), kRoveRawlogMagic.size()) == 0) {
     return RawlogFormat::kRove;
   }
   const bool bzip2 = n >= 3 && std::memcmp(head.data(), "BZh", 3) == 0;
   bool text = true;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < std::min<std::size_t>(n, 8); ++i) {
     text = text && is_text_byte(std::to_integer<unsigned char>(head[i]));
   }
-  if (!bzip2 && !text) return RawlogFormat::kMrpt;
+  if (!bzip2 && !text) {
+    if (!starts_with_mrpt_object(std::span<const std::byte>(head.data(), n))) {
+      throw ParseError({path, std::nullopt, 0, "format"},
+                       "not a rove rawlog, MRPT rawlog or CARMEN log: binary data that does not "
+                       "start with an MRPT object header (class name length and name)");
+    }
+    return RawlogFormat::kMrpt;
+  }
   // Text (or bzip2): a CARMEN log only if it holds CARMEN message lines.
   if (!bzip2 && is_gzip_file(path)) {
     throw ParseError({path, std::nullopt, 0, "format"},

@@ -91,6 +91,22 @@ TEST(AnyRawlogFormat, TextIsNotReadAsAnEmptyCarmenLog_Regression) {
   }
 }
 
+TEST(AnyRawlogFormat, BinaryThatIsNotMrptIsRefused_Regression) {
+  TempDir tmp("binary");
+  for (const std::string& bytes :
+       {std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16), std::string("\x85\x01\x02\x03\x04\x05", 6),
+        std::string("\xff\xfe\x00\x01", 4)}) {
+    const std::string file = tmp.write("input.bin", bytes);
+    try {
+      detect_rawlog_format(file);
+      ADD_FAILURE() << "binary data taken for an MRPT rawlog";
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.location().source, file);
+      EXPECT_EQ(e.location().field, "format");
+    }
+  }
+}
+
 TEST(AnyRawlogFormat, CarmenLogWithoutRecordsIsAnError_Regression) {
   TempDir tmp("norecords");
   const std::string file =

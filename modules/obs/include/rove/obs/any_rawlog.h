@@ -7,9 +7,10 @@
 /// Detection: "ROVERAWL" → rove rawlog; "BZh" or printable text → CARMEN log
 /// when a line within its first 256 KiB starts with a CARMEN message name
 /// (FLASER, ODOM, PARAM, ...), else an error (a .g2o, a .pcd or any other
-/// text is not a log); anything else → MRPT rawlog (MRPT objects start with
-/// a byte >= 0x80 or a small binary length). A CARMEN log that ends without
-/// a single record is an error too, never an empty log.
+/// text is not a log); binary data starting with an MRPT object header
+/// (0x80 | name length, or an old-style u32 length below 128, then a
+/// printable class name) → MRPT rawlog; anything else is an error. A CARMEN
+/// log that ends without a single record is an error too, never an empty log.
 
 #include <cstdint>
 #include <memory>
@@ -36,7 +37,8 @@ std::string_view to_string(RawlogFormat format) noexcept;
 /// The format of the file at `path`, from its first bytes. Throws IoError
 /// if it cannot be opened or read or is not a regular file (a directory,
 /// /dev/zero, a FIFO); ParseError (file, offset 0, "format") if it is empty,
-/// gzip-compressed text, or text without CARMEN message lines.
+/// gzip-compressed text, text without CARMEN message lines, or binary data
+/// that is not an MRPT object.
 RawlogFormat detect_rawlog_format(const std::string& path);
 
 /// Options of AnyRawlogReader, per format.
