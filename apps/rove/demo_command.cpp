@@ -14,6 +14,7 @@
 #include "rove/poses/point3.h"
 #include "rove/poses/pose2.h"
 #include "rove/poses/pose3.h"
+#include "rove/slam/icp_slam.h"
 
 namespace rove::cli {
 
@@ -26,30 +27,29 @@ struct DemoOptions {
   bool profile = false;
 };
 
-// Reads the icp-slam configuration MRPT ships, with the typed getters that
-// ICP-SLAM will use, and lists what is configured.
+// Loads the icp-slam configuration MRPT ships exactly as `rove icp-slam`
+// does (the same strict loader: unknown keys and out-of-range values are
+// errors) and prints what it configures.
 void show_config(const std::string& path) {
-  const IniFile ini = IniFile::load(path);
+  const IcpSlamConfig config = load_icp_slam_config(IniFile::load(path));
+  const IcpSlamOptions& o = config.options;
   fmt::print("MRPT icp-slam configuration: {}\n", path);
-  fmt::print("  {} sections:", ini.sections().size());
-  for (const auto& s : ini.sections()) fmt::print(" [{}]", s);
+  fmt::print("  [ICP] {}, at most {} iterations, match distance {:.3g} m widened by {:.3g} deg/m,\n"
+             "        ALFA {:.3g}, smallest threshold {:.3g} m, decimation {}\n",
+             o.icp.algorithm == IcpAlgorithm::Classic ? "icpClassic" : "icpLevenbergMarquardt",
+             o.icp.max_iterations, o.icp.threshold_dist, o.icp.threshold_ang / kDeg, o.icp.alfa,
+             o.icp.smallest_threshold_dist, o.icp.corresponding_points_decimation);
+  fmt::print("  [MappingApplication] localize every {:.3g} m / {:.3g} deg, insert every {:.3g} m / {:.3g} "
+             "deg,\n        accept ICP goodness >= {:.3g}, {} map(s)",
+             o.localization_lin_distance, o.localization_ang_distance / kDeg,
+             o.insertion_lin_distance, o.insertion_ang_distance / kDeg,
+             o.min_icp_goodness_to_accept, config.map.size());
+  for (const auto& e : config.map.entries()) fmt::print(" {}", e.map->kind());
   fmt::print("\n");
-  fmt::print("  [ICP] algorithm {}, at most {} iterations, match distance {} m widened by {} deg,\n"
-             "        ALFA {}, smallest threshold {} m, decimation {}\n",
-             ini.get<std::string>("ICP", "ICP_algorithm"), ini.get<int>("ICP", "maxIterations"),
-             ini.get<double>("ICP", "thresholdDist"), ini.get<double>("ICP", "thresholdAng_DEG"),
-             ini.get<double>("ICP", "ALFA"), ini.get<double>("ICP", "smallestThresholdDist"),
-             ini.get_or<int>("ICP", "corresponding_points_decimation", 1));
-  const std::string app = "MappingApplication";
-  fmt::print("  [{}] localize every {} m / {} deg, insert every {} m / {} deg,\n"
-             "        accept ICP goodness >= {}, point maps {}, occupancy grids {}\n",
-             app, ini.get<double>(app, "localizationLinDistance"),
-             ini.get<double>(app, "localizationAngDistance"),
-             ini.get<double>(app, "insertionLinDistance"),
-             ini.get<double>(app, "insertionAngDistance"),
-             ini.get<double>(app, "minICPgoodnessToAccept"),
-             ini.get_or<int>(app, "pointsMap_count", 0),
-             ini.get_or<int>(app, "occupancyGrid_count", 0));
+  if (!config.ignored_keys.empty()) {
+    fmt::print("  {} key(s) without effect in rove (MRPT GUI/logging switches)\n",
+               config.ignored_keys.size());
+  }
 }
 
 // MRPT's documented example of pose composition ("2D/3D poses" tutorial):
