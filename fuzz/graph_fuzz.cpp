@@ -61,6 +61,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   exercise<rove::PoseGraph3D>(text, [](std::string_view t, std::string_view s) {
     return rove::parse_graph_3d(t, s);
   });
+  // With the nearest-psd repair every edge that loads must be acceptable.
+  rove::GraphReadOptions repair;
+  repair.repair_information = rove::InformationRepair::NearestPsd;
+  exercise<rove::PoseGraph2D>(text, [&](std::string_view t, std::string_view s) {
+    return rove::parse_graph_2d(t, s, repair);
+  });
+  exercise<rove::PoseGraph3D>(text, [&](std::string_view t, std::string_view s) {
+    return rove::parse_graph_3d(t, s, repair);
+  });
   for (int dim = 2; dim <= 3; ++dim) {
     rove::MemoryInStream in(std::span<const std::byte>(reinterpret_cast<const std::byte*>(data), size),
                             "fuzz.rpg");

@@ -305,8 +305,11 @@ int run(Graph g, const GraphSlamArgs& a, const Loaded& l, int threads) {
     }
     if (r.ok() && !a.output.empty()) fmt::print("output         {}\n", printable(a.output));
     if (plotted) fmt::print("plot           {}\n", printable(a.plot));
-    fmt::print("issues         {}\n", issues.empty() ? std::string("none")
-                                                     : fmt::format("{}", issues.size()));
+    if (issues.empty()) fmt::print("issues         none\n");
+    for (std::size_t k = 0; k < issues.size(); ++k) {
+      fmt::print("{}{}: {}\n", k == 0 ? "issues         " : "               ", issues[k].code,
+                 issues[k].message);
+    }
   }
   if (!r.ok()) {
     fmt::print(stderr, "rove: graph-slam failed ({}): {}\n", to_string(r.termination), r.message);
