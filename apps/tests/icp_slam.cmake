@@ -96,3 +96,10 @@ add_test(NAME cli.icp_slam_output_is_input COMMAND ${CMAKE_COMMAND}
 set_tests_properties(cli.icp_slam_no_icp_accepted cli.icp_slam_demo_no_issues
   cli.icp_slam_text_is_not_a_log cli.icp_slam_log_without_scans cli.icp_slam_output_is_input
   PROPERTIES LABELS cli)
+
+# --json and summary.json stay valid JSON for a file name that is not UTF-8.
+add_test(NAME cli.icp_slam_json_non_utf8 COMMAND sh
+  ${CMAKE_CURRENT_SOURCE_DIR}/tests/icp_slam_json_non_utf8.sh $<TARGET_FILE:rove>
+  ${PROJECT_SOURCE_DIR}/data/mrpt/icp-slam_demo_classic.ini ${rove_icp_telecom}
+  ${rove_icp_dir}/non_utf8)
+set_tests_properties(cli.icp_slam_json_non_utf8 PROPERTIES LABELS cli)
