@@ -312,99 +312,99 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
   RawlogJobResult r;
   r.input_format = reader.format();
   write_file_atomically(out, [&](const std::filesystem::path& tmp) {
-  // The output layout: as requested, else the input's; an MRPT file
-  // declares none, so its first entry decides (a later entry of the other
-  // kind is then converted as below).
-  std::optional<RawlogEntry> first = reader.next();
-  RawlogLayout out_layout = options.layout.value_or(
-      reader.declared_layout().value_or(first ? layout_of({*first}) : RawlogLayout::kActionsSensoryFrames));
-  if (out_layout == RawlogLayout::kEmpty) out_layout = RawlogLayout::kActionsSensoryFrames;
-  RoveRawlogWriter writer(tmp.string(), with_metadata(options.write, in, r.input_format, out_layout));
+    // The output layout: as requested, else the input's; an MRPT file
+    // declares none, so its first entry decides (a later entry of the other
+    // kind is then converted as below).
+    std::optional<RawlogEntry> first = reader.next();
+    RawlogLayout out_layout = options.layout.value_or(
+        reader.declared_layout().value_or(first ? layout_of({*first}) : RawlogLayout::kActionsSensoryFrames));
+    if (out_layout == RawlogLayout::kEmpty) out_layout = RawlogLayout::kActionsSensoryFrames;
+    RoveRawlogWriter writer(tmp.string(), with_metadata(options.write, in, r.input_format, out_layout));
 
-  // #1 → #2 state.
-  Pose2 odometry;  // integrated
-  // #2 → #1 state.
-  std::optional<Pose2> odometry_latest, odometry_at_last_frame;
-  Timestamp odometry_latest_time;
-  auto frame = std::make_shared<SensoryFrame>();
-  auto flush_frame = [&] {
-    if (frame->empty()) return;
-    if (odometry_latest && odometry_at_last_frame) {
-      RobotMovement2D move(*odometry_latest - *odometry_at_last_frame, options.motion_model);
-      move.timestamp = odometry_latest_time;
-      ActionCollection ac;
-      ac.add(std::make_shared<RobotMovement2D>(std::move(move)));
-      writer.write(ac);
-      ++r.kept[std::string(RobotMovement2D::kClassName)];
-    }
-    odometry_at_last_frame = odometry_latest;
-    writer.write(*frame);
-    count_entry(r.kept, RawlogEntry(FramePtr(frame)));
-    frame = std::make_shared<SensoryFrame>();
-  };
+    // #1 → #2 state.
+    Pose2 odometry;  // integrated
+    // #2 → #1 state.
+    std::optional<Pose2> odometry_latest, odometry_at_last_frame;
+    Timestamp odometry_latest_time;
+    auto frame = std::make_shared<SensoryFrame>();
+    auto flush_frame = [&] {
+      if (frame->empty()) return;
+      if (odometry_latest && odometry_at_last_frame) {
+        RobotMovement2D move(*odometry_latest - *odometry_at_last_frame, options.motion_model);
+        move.timestamp = odometry_latest_time;
+        ActionCollection ac;
+        ac.add(std::make_shared<RobotMovement2D>(std::move(move)));
+        writer.write(ac);
+        ++r.kept[std::string(RobotMovement2D::kClassName)];
+      }
+      odometry_at_last_frame = odometry_latest;
+      writer.write(*frame);
+      count_entry(r.kept, RawlogEntry(FramePtr(frame)));
+      frame = std::make_shared<SensoryFrame>();
+    };
 
-  for (std::optional<RawlogEntry> e = std::move(first); e; e = reader.next()) {
-    throw_if_interrupted();
-    ++r.entries_in;
-    const bool is_obs = std::holds_alternative<ObsPtr>(*e);
-    if (out_layout == RawlogLayout::kMixed || layout_of({*e}) == out_layout) {
-      if (out_layout == RawlogLayout::kActionsSensoryFrames) flush_frame();
-      writer.write(*e);
-      count_entry(r.kept, *e);
-    } else if (out_layout == RawlogLayout::kObservations) {
-      // #1 → #2.
-      if (auto* ac = std::get_if<ActionsPtr>(&*e)) {
-        for (const auto& a : (*ac)->actions) {
-          auto* m = dynamic_cast<const RobotMovement2D*>(a.get());
-          if (m == nullptr) {
-            ++r.dropped[std::string(a->class_name())];
-            continue;
+    for (std::optional<RawlogEntry> e = std::move(first); e; e = reader.next()) {
+      throw_if_interrupted();
+      ++r.entries_in;
+      const bool is_obs = std::holds_alternative<ObsPtr>(*e);
+      if (out_layout == RawlogLayout::kMixed || layout_of({*e}) == out_layout) {
+        if (out_layout == RawlogLayout::kActionsSensoryFrames) flush_frame();
+        writer.write(*e);
+        count_entry(r.kept, *e);
+      } else if (out_layout == RawlogLayout::kObservations) {
+        // #1 → #2.
+        if (auto* ac = std::get_if<ActionsPtr>(&*e)) {
+          for (const auto& a : (*ac)->actions) {
+            auto* m = dynamic_cast<const RobotMovement2D*>(a.get());
+            if (m == nullptr) {
+              ++r.dropped[std::string(a->class_name())];
+              continue;
+            }
+            odometry = odometry + m->mean();
+            OdometryObservation o;
+            o.timestamp = m->timestamp;
+            o.sensor_label = "ODOMETRY";
+            o.odometry = odometry;
+            o.encoder_ticks = m->encoder_ticks;
+            o.velocity = m->velocity;
+            writer.write(o);
+            ++r.kept[std::string(OdometryObservation::kClassName)];
           }
-          odometry = odometry + m->mean();
-          OdometryObservation o;
-          o.timestamp = m->timestamp;
-          o.sensor_label = "ODOMETRY";
-          o.odometry = odometry;
-          o.encoder_ticks = m->encoder_ticks;
-          o.velocity = m->velocity;
-          writer.write(o);
-          ++r.kept[std::string(OdometryObservation::kClassName)];
+        } else {
+          const auto& sf = std::get<FramePtr>(*e);
+          for (const auto& o : sf->observations) {
+            writer.write(*o);
+            ++r.kept[std::string(o->class_name())];
+          }
         }
       } else {
-        const auto& sf = std::get<FramePtr>(*e);
-        for (const auto& o : sf->observations) {
-          writer.write(*o);
-          ++r.kept[std::string(o->class_name())];
+        // #2 → #1.
+        ROVE_CHECK(is_obs);
+        const auto& o = std::get<ObsPtr>(*e);
+        if (auto* odo = dynamic_cast<const OdometryObservation*>(o.get())) {
+          flush_frame();
+          odometry_latest = odo->odometry;
+          odometry_latest_time = odo->timestamp;
+          ++r.dropped["OdometryObservation (-> actions)"];
+        } else {
+          frame->add(o);
         }
       }
-    } else {
-      // #2 → #1.
-      ROVE_CHECK(is_obs);
-      const auto& o = std::get<ObsPtr>(*e);
-      if (auto* odo = dynamic_cast<const OdometryObservation*>(o.get())) {
-        flush_frame();
-        odometry_latest = odo->odometry;
-        odometry_latest_time = odo->timestamp;
-        ++r.dropped["OdometryObservation (-> actions)"];
-      } else {
-        frame->add(o);
-      }
+      if (progress) progress(reader);
     }
-    if (progress) progress(reader);
-  }
-  flush_frame();
-  if (const auto* c = reader.carmen()) {
-    const auto& s = c->stats();
-    if (s.odom_not_used > 0) r.dropped["CARMEN ODOM line (odometry taken from laser lines)"] += s.odom_not_used;
-    if (s.truepos_dropped > 0) r.dropped["CARMEN TRUEPOS line"] += s.truepos_dropped;
-    const std::uint64_t other = s.log.param + s.log.sync + s.log.other;
-    if (other > 0) r.dropped["CARMEN PARAM/SYNC/other line"] += other;
-    if (s.log.malformed > 0) r.dropped["CARMEN malformed line"] += s.log.malformed;
-  }
-  if (const auto* rv = reader.rove(); rv != nullptr && rv->skipped_entries() > 0) {
-    r.dropped["entry of unknown class"] += rv->skipped_entries();
-  }
-  finish(r, writer);
+    flush_frame();
+    if (const auto* c = reader.carmen()) {
+      const auto& s = c->stats();
+      if (s.odom_not_used > 0) r.dropped["CARMEN ODOM line (odometry taken from laser lines)"] += s.odom_not_used;
+      if (s.truepos_dropped > 0) r.dropped["CARMEN TRUEPOS line"] += s.truepos_dropped;
+      const std::uint64_t other = s.log.param + s.log.sync + s.log.other;
+      if (other > 0) r.dropped["CARMEN PARAM/SYNC/other line"] += other;
+      if (s.log.malformed > 0) r.dropped["CARMEN malformed line"] += s.log.malformed;
+    }
+    if (const auto* rv = reader.rove(); rv != nullptr && rv->skipped_entries() > 0) {
+      r.dropped["entry of unknown class"] += rv->skipped_entries();
+    }
+    finish(r, writer);
   });
   return r;
 }
@@ -496,51 +496,51 @@ RawlogJobResult decimate_rawlog(const std::string& in, const std::string& out,
   RawlogJobResult r;
   r.input_format = reader.format();
   write_file_atomically(out, [&](const std::filesystem::path& tmp) {
-  RoveRawlogWriter writer(tmp.string(), with_metadata(options.write, in, r.input_format,
-                                                      input_layout(reader)));
-  MovementAccumulator moves;
-  std::uint64_t frames = 0;
-  std::uint64_t observations = 0;
-  while (auto e = reader.next()) {
-    throw_if_interrupted();
-    ++r.entries_in;
-    if (auto* ac = std::get_if<ActionsPtr>(&*e)) {
-      for (const auto& a : (*ac)->actions) {
-        if (auto* m = dynamic_cast<const RobotMovement2D*>(a.get())) {
-          moves.add(*m);
+    RoveRawlogWriter writer(tmp.string(), with_metadata(options.write, in, r.input_format,
+                                                        input_layout(reader)));
+    MovementAccumulator moves;
+    std::uint64_t frames = 0;
+    std::uint64_t observations = 0;
+    while (auto e = reader.next()) {
+      throw_if_interrupted();
+      ++r.entries_in;
+      if (auto* ac = std::get_if<ActionsPtr>(&*e)) {
+        for (const auto& a : (*ac)->actions) {
+          if (auto* m = dynamic_cast<const RobotMovement2D*>(a.get())) {
+            moves.add(*m);
+          } else {
+            ++r.dropped[std::string(a->class_name())];
+          }
+        }
+      } else if (auto* sf = std::get_if<FramePtr>(&*e)) {
+        if (frames++ % options.every == 0) {
+          if (auto m = moves.take()) {
+            ActionCollection merged;
+            merged.add(std::make_shared<RobotMovement2D>(std::move(*m)));
+            writer.write(merged);
+            ++r.kept[std::string(RobotMovement2D::kClassName)];
+          }
+          writer.write(**sf);
+          count_entry(r.kept, *e);
         } else {
-          ++r.dropped[std::string(a->class_name())];
+          count_entry(r.dropped, *e);
+        }
+      } else {
+        const auto& o = std::get<ObsPtr>(*e);
+        const bool odometry = dynamic_cast<const OdometryObservation*>(o.get()) != nullptr;
+        if (odometry || observations++ % options.every == 0) {
+          writer.write(*o);
+          ++r.kept[std::string(o->class_name())];
+        } else {
+          ++r.dropped[std::string(o->class_name())];
         }
       }
-    } else if (auto* sf = std::get_if<FramePtr>(&*e)) {
-      if (frames++ % options.every == 0) {
-        if (auto m = moves.take()) {
-          ActionCollection merged;
-          merged.add(std::make_shared<RobotMovement2D>(std::move(*m)));
-          writer.write(merged);
-          ++r.kept[std::string(RobotMovement2D::kClassName)];
-        }
-        writer.write(**sf);
-        count_entry(r.kept, *e);
-      } else {
-        count_entry(r.dropped, *e);
-      }
-    } else {
-      const auto& o = std::get<ObsPtr>(*e);
-      const bool odometry = dynamic_cast<const OdometryObservation*>(o.get()) != nullptr;
-      if (odometry || observations++ % options.every == 0) {
-        writer.write(*o);
-        ++r.kept[std::string(o->class_name())];
-      } else {
-        ++r.dropped[std::string(o->class_name())];
-      }
+      if (progress) progress(reader);
     }
-    if (progress) progress(reader);
-  }
-  if (auto m = moves.take()) {
-    ++r.dropped[std::string(RobotMovement2D::kClassName) + " (after the last kept frame)"];
-  }
-  finish(r, writer);
+    if (auto m = moves.take()) {
+      ++r.dropped[std::string(RobotMovement2D::kClassName) + " (after the last kept frame)"];
+    }
+    finish(r, writer);
   });
   return r;
 }
