@@ -100,6 +100,10 @@ IcpSlamRunResult run_icp_slam(IcpSlam& slam, const std::string& rawlog_path,
       work();
     } catch (const ParseError&) {
       throw;
+    } catch (const ResourceError&) {
+      throw;  // names what asked for the memory (a map key), not the step
+    } catch (const Interrupted&) {
+      throw;
     } catch (const Error& e) {
       throw ParseError({rawlog_path, std::nullopt, at, "step " + std::to_string(index)},
                        fmt::format("ICP-SLAM rejected the step: {}", e.message()));
