@@ -103,3 +103,9 @@ add_test(NAME cli.icp_slam_json_non_utf8 COMMAND sh
   ${PROJECT_SOURCE_DIR}/data/mrpt/icp-slam_demo_classic.ini ${rove_icp_telecom}
   ${rove_icp_dir}/non_utf8)
 set_tests_properties(cli.icp_slam_json_non_utf8 PROPERTIES LABELS cli)
+
+# Ctrl-C stops a long run cleanly (exit 130, nothing written, says so).
+add_test(NAME cli.icp_slam_interrupt COMMAND sh
+  ${CMAKE_CURRENT_SOURCE_DIR}/tests/icp_slam_interrupt.sh $<TARGET_FILE:rove> ${PROJECT_SOURCE_DIR}
+  ${rove_icp_dir}/interrupt)
+set_tests_properties(cli.icp_slam_interrupt PROPERTIES LABELS cli SKIP_RETURN_CODE 77 TIMEOUT 60)
