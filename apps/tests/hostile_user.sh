@@ -28,7 +28,13 @@ fi
 # ---- fixtures -------------------------------------------------------------
 cp "$data/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog" log.rawlog
 cp "$data/icp-slam_demo_classic.ini" conf.ini
-sed 's/^\(\s*resolution\s*=\s*\).*/\10.001/' conf.ini > fine_grid.ini
+# The demo config with an occupancy grid of 1 mm cells over MRPT's default
+# extent: 40,000 × 40,000 cells, far over the 1 GB budget.
+{
+  sed 's/^occupancyGrid_count=0/occupancyGrid_count=1/' conf.ini
+  printf '\n[MappingApplication_occupancyGrid_00_creationOpts]\nresolution=0.001\n'
+  printf 'min_x=-20\nmax_x=20\nmin_y=-20\nmax_y=20\n'
+} > fine_grid.ini
 printf 'hello world\n' > hello.txt
 printf 'VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\nEDGE_SE2 1 2 1 0 0 1 0 0 1 0 1\nEDGE_SE2 0 2 2.1 0 0 1 0 0 1 0 1\n' > graph.g2o
 {
