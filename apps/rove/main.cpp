@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <exception>
+#include <regex>
 #include <string>
 #include <string_view>
 
@@ -25,6 +26,32 @@ void print_error(std::string_view prefix, std::string_view message) {
     first = false;
     start = end + 1;
   }
+}
+
+// CLI11's range checks print their bounds with std::to_string, so an open
+// bound (a "non-negative" or "positive" number) becomes a 309-digit number.
+// Say what is expected instead.
+std::string readable_usage_error(std::string message) {
+  static const std::regex huge_range(
+      R"(Value (.*) not in range (-?[0-9.e+-]+) to [0-9]{30,}\.?[0-9]*)");
+  std::smatch m;
+  if (std::regex_search(message, m, huge_range)) {
+    const std::string value = m[1].str();
+    const double low = std::stod(m[2].str());
+    char* end = nullptr;
+    const double v = std::strtod(value.c_str(), &end);
+    const bool numeric = !value.empty() && end != nullptr && *end == '\0';
+    std::string want;
+    if (low > 0.0 || (low == 0.0 && numeric && v >= 0.0)) {
+      want = "must be a number greater than 0";  // CLI11's "positive" bound prints as 0.000000
+    } else if (low == 0.0) {
+      want = "must be a number >= 0";
+    } else {
+      want = "must be a number >= " + m[2].str();
+    }
+    message = m.prefix().str() + "'" + value + "' " + want + m.suffix().str();
+  }
+  return message;
 }
 
 // The deepest subcommand the command line reached ("rove rawlog cut").
@@ -84,7 +111,7 @@ int main(int argc, char** argv) {
     // --help and --version are "errors" that exit 0: let CLI11 print them.
     if (e.get_exit_code() == 0) return app.exit(e);
     const std::string where = command_path(app);
-    print_error("rove: usage error: ", e.what());
+    print_error("rove: usage error: ", readable_usage_error(e.what()));
     fmt::print(stderr, "  see {} --help\n", where);
     return rove::cli::kExitUsage;
   } catch (const rove::cli::IssuesExit& e) {

@@ -135,6 +135,7 @@ expect empty.graph_level      'level'       -- graph-slam -i graph.g2o --level 9
 expect usage.unknown_command  'frobnicate'  -- frobnicate
 expect usage.unknown_flag     'frobnicate'  -- rawlog info log.rawlog --frobnicate
 expect usage.bad_number       'max-iters'   -- graph-slam -i graph.g2o --max-iters many
+expect usage.zero_every       'every'       -- rawlog decimate log.rawlog dec.rawlog --every 0
 
 # ---- what must not have happened ---------------------------------------------
 after=$(sum_inputs)
