@@ -386,6 +386,15 @@ void add_graph_slam_command(CLI::App& app) {
     if (!a->output.empty()) outputs.emplace_back(a->output);
     if (!a->plot.empty()) outputs.emplace_back(a->plot);
     check_outputs_distinct(inputs, outputs);
+    // A missing folder is found now, not after a long optimization.
+    for (const auto& out : outputs) {
+      const std::filesystem::path folder = out.parent_path();
+      std::error_code ec;
+      if (!folder.empty() && !std::filesystem::is_directory(folder, ec)) {
+        throw IoError(out.string(), fmt::format("cannot write: folder '{}' does not exist",
+                                                printable(folder.string())));
+      }
+    }
 
     Stopwatch sw;
     Loaded l;

@@ -30,6 +30,8 @@ expect 1 "refusing to write over the input" -- graph-slam -i "$work/in.g2o" -o "
 expect 1 "refusing to write over the input" -- graph-slam -i "$work/in.g2o" --ground-truth "$work/circle.graph" -o "$work/circle.graph"
 cmp -s "$work/in.g2o" "$data/intel.g2o" || { echo "FAIL: the input was modified"; failures=$((failures + 1)); }
 cmp -s "$work/circle.graph" "$data/graph_2d_circle_50nodes.graph" || { echo "FAIL: the circle input was modified"; failures=$((failures + 1)); }
+# An output folder that does not exist is found before the optimization.
+expect 1 "missing-folder.*does not exist" -- graph-slam -i "$work/in.g2o" -o "$work/missing-folder/out.g2o"
 # Devices and directories are refused, not read.
 expect 1 "/dev/zero.*not a regular file" -- graph-slam -i /dev/zero
 expect 1 "/dev/urandom.*not a regular file" -- graph-slam -i /dev/urandom --2d
