@@ -10,6 +10,34 @@
 set(ROVE_MODULE_ORDER core serialization math poses obs maps registration bayes graph
     vision slam nav viz)
 
+# Tests that read the large shared datasets (not part of a clone): GoogleTest
+# suites whose name ends in "Datasets", and the command-line tests passed to
+# rove_dataset_tests(). ctest labels them `datasets`. When the folder is
+# absent they are registered disabled (ctest lists them as "Disabled"), unless
+# the environment sets ROVE_REQUIRE_DATASETS=1 at configure time, as CI does:
+# then they run and fail loudly, naming the missing file.
+set(ROVE_DATASETS_DIR "${PROJECT_SOURCE_DIR}/../shared/datasets" CACHE PATH
+    "Folder of the large shared datasets read by the tests labelled 'datasets'")
+get_filename_component(ROVE_DATASETS_DIR "${ROVE_DATASETS_DIR}" ABSOLUTE)
+set(ROVE_DATASETS_DISABLED FALSE)
+if(NOT IS_DIRECTORY "${ROVE_DATASETS_DIR}" AND NOT "$ENV{ROVE_REQUIRE_DATASETS}" STREQUAL "1")
+  set(ROVE_DATASETS_DISABLED TRUE)
+  if(ROVE_BUILD_TESTS)
+    message(STATUS "rove: ${ROVE_DATASETS_DIR} is absent: the tests labelled 'datasets' are disabled")
+  endif()
+endif()
+
+# rove_dataset_tests(<test>...): marks command-line tests that read
+# ROVE_DATASETS_DIR (label `datasets`, disabled when the folder is absent).
+function(rove_dataset_tests)
+  foreach(t IN LISTS ARGN)
+    set_property(TEST ${t} APPEND PROPERTY LABELS datasets)
+    if(ROVE_DATASETS_DISABLED)
+      set_property(TEST ${t} PROPERTY DISABLED TRUE)
+    endif()
+  endforeach()
+endfunction()
+
 function(rove_target_defaults target)
   target_compile_features(${target} PUBLIC cxx_std_20)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
@@ -63,12 +91,24 @@ function(rove_add_module name)
     if(test_srcs)
       add_executable(rove_${name}_tests ${test_srcs})
       target_link_libraries(rove_${name}_tests PRIVATE rove::${name} GTest::gtest GTest::gtest_main)
-      target_include_directories(rove_${name}_tests PRIVATE ${dir}/tests)
+      target_include_directories(rove_${name}_tests PRIVATE ${dir}/tests
+        ${PROJECT_SOURCE_DIR}/modules/core/tests/support)
       target_compile_definitions(rove_${name}_tests PRIVATE
-        ROVE_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+        ROVE_SOURCE_DIR="${PROJECT_SOURCE_DIR}" ROVE_DATASETS_DIR="${ROVE_DATASETS_DIR}")
       rove_target_defaults(rove_${name}_tests)
       gtest_discover_tests(rove_${name}_tests DISCOVERY_MODE PRE_TEST
         WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTIES LABELS ${name})
+      # A hook ctest runs after the discovery above: the suites that read the
+      # shared datasets (name ending in "Datasets") get the label `datasets`.
+      set(hook ${CMAKE_CURRENT_BINARY_DIR}/rove_${name}_tests_datasets.cmake)
+      file(WRITE ${hook}
+        "foreach(t IN LISTS rove_${name}_tests_TESTS)\n"
+        "  if(t MATCHES \"Datasets\\\\.\")\n"
+        "    set_tests_properties(\"\${t}\" PROPERTIES LABELS \"${name};datasets\"\n"
+        "      DISABLED ${ROVE_DATASETS_DISABLED})\n"
+        "  endif()\n"
+        "endforeach()\n")
+      set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${hook})
     endif()
   endif()
 endfunction()

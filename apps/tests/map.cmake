@@ -5,7 +5,8 @@
 
 set(rove_map_dir ${CMAKE_CURRENT_BINARY_DIR}/map_tests)
 file(MAKE_DIRECTORY ${rove_map_dir})
-set(rove_map_datasets ${PROJECT_SOURCE_DIR}/../shared/datasets/mrpt)
+set(rove_map_datasets ${PROJECT_SOURCE_DIR}/data/mrpt)
+set(rove_mrpt_package /usr/share/mrpt/datasets)
 set(rove_map_configs /usr/share/mrpt/config_files)
 
 # Points: MRPT's icp-slam map section on the localization simplemap gives
@@ -58,7 +59,7 @@ set_tests_properties(cli.map_build_gas_grid PROPERTIES LABELS cli
 # ROS map again; both trinary PNGs must be byte-identical.
 file(MAKE_DIRECTORY ${rove_map_dir}/convert)
 add_test(NAME cli.map_convert_gridmap COMMAND rove map convert
-  ${rove_map_datasets}/2006-MalagaCampus.gridmap.gz ${rove_map_dir}/convert/malaga.yaml)
+  ${rove_mrpt_package}/2006-MalagaCampus.gridmap.gz ${rove_map_dir}/convert/malaga.yaml)
 set_tests_properties(cli.map_convert_gridmap PROPERTIES LABELS cli FIXTURES_SETUP map_convert_1
   PASS_REGULAR_EXPRESSION "MRPT gridmap [^\n]*: [0-9]+ x [0-9]+ cells.*wrote [^\n]*malaga\\.png\n  wrote [^\n]*malaga\\.yaml")
 add_test(NAME cli.map_convert_yaml_to_rovegrid COMMAND rove map convert

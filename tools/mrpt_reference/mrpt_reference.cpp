@@ -335,7 +335,7 @@ int usage() {
 int main(int argc, char** argv) {
   if (argc < 2) return usage();
   std::string output;
-  std::uint64_t cases = 10000;
+  std::uint64_t cases = 1000;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--cases" && i + 1 < argc) {

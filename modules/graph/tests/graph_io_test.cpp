@@ -209,7 +209,7 @@ TEST(GraphIo, ErrorsNameFileLineAndField) {
   expect_parse_error(p3("VERTEX2 0 0 0 0\n"), 1, "2D record");
 }
 
-TEST(GraphIo, ReadsEveryDataset) {
+TEST(GraphIoDatasets, ReadsEveryDataset) {
   const auto circle = read_graph_2d(test::posegraph_dataset("graph_2d_circle_50nodes.graph"));
   EXPECT_EQ(circle.num_vertices(), 50u);
   EXPECT_EQ(circle.num_edges(), 101u);

@@ -7,16 +7,19 @@
 #include <gtest/gtest.h>
 
 #include "rove/graph/pose_graph.h"
+#include "rove/test_data.h"
 
 namespace rove::test {
 
-/// Path of a file of the shared pose-graph datasets; fails the test loudly
-/// (not a skip) when the datasets folder is missing.
+/// Path of a file of the shared pose-graph datasets (only for suites named
+/// *Datasets, see rove/test_data.h); a missing file fails the test loudly.
 inline std::string posegraph_dataset(const std::string& name) {
-  const std::string path = std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/posegraph/" + name;
-  EXPECT_TRUE(std::filesystem::exists(path))
-      << "dataset missing: " << path << " (the pose-graph datasets are required by this test)";
-  return path;
+  return test_data::shared_dataset("posegraph/" + name);
+}
+
+/// Path of a small pose graph bundled in data/posegraph (circle50, w100).
+inline std::string posegraph_bundled(const std::string& name) {
+  return test_data::bundled_file("posegraph/" + name);
 }
 
 /// Path of a committed test file of rove::graph.

@@ -56,8 +56,8 @@ double max_position_error(const Graph& a, const Graph& b) {
 }
 
 TEST(Optimizer, CircleReachesGroundTruth) {
-  auto g = read_graph_2d(test::posegraph_dataset("graph_2d_circle_50nodes.graph"));
-  const auto gt = read_graph_2d(test::posegraph_dataset("graph_2d_circle_50nodes_groundtruth.graph"));
+  auto g = read_graph_2d(test::posegraph_bundled("graph_2d_circle_50nodes.graph"));
+  const auto gt = read_graph_2d(test::posegraph_bundled("graph_2d_circle_50nodes_groundtruth.graph"));
   const double before = max_position_error(g, gt);
   const auto r = optimize(g);
   ASSERT_EQ(r.termination, GraphTermination::Converged) << r.message;
@@ -231,7 +231,7 @@ TEST(Optimizer, MethodsAgreeAndChiSquareNeverIncreases) {
   for (auto solver : {GraphSolver::GaussNewton, GraphSolver::LevenbergMarquardt,
                       GraphSolver::DogLeg}) {
     // w100 from the odometry chain: far from the optimum, so steps get rejected.
-    auto g = read_graph_2d(test::posegraph_dataset("w100.graph"));
+    auto g = read_graph_2d(test::posegraph_bundled("w100.graph"));
     initialize(g, InitialGuess::Odometry);
     GraphOptimizerOptions o;
     o.solver = solver;

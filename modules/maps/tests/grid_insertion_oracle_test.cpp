@@ -20,12 +20,13 @@
 #include "rove/obs/mrpt_simplemap.h"
 #include "rove/obs/rawlog_reader.h"
 #include "rove/serialization/input_file.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
 const std::string kData = ROVE_SOURCE_DIR "/modules/maps/tests/data/";
-const std::string kDatasets = ROVE_SOURCE_DIR "/../shared/datasets/mrpt/";
+const std::string kDatasets = test_data::bundled_file("mrpt/");
 
 // MRPT's thin-ray insertion written plainly (options as GridInsertionOptions,
 // wideningBeamsWithDistance false, no int8 wrap of the occupied strength).

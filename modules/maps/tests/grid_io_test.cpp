@@ -18,6 +18,7 @@
 #include "rove/maps/mrpt_gridmap.h"
 #include "rove/maps/ros_map_yaml.h"
 #include "rove/serialization/memory_stream.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
@@ -563,9 +564,8 @@ TEST(GridImage, UnusualThresholdsStillReadBackUnknown) {
 // The MRPT Malaga campus map saved as PNG + yaml and read back: every cell
 // in the same class.
 TEST(GridImage, MrptGridmapThroughPngAndYaml) {
-  std::string path = ROVE_SOURCE_DIR "/../shared/datasets/mrpt/2006-MalagaCampus.gridmap.gz";
-  if (!fs::exists(path)) path = "/usr/share/mrpt/datasets/2006-MalagaCampus.gridmap.gz";
-  if (!fs::exists(path)) GTEST_SKIP() << "2006-MalagaCampus.gridmap.gz not found";
+  const std::string path = test_data::mrpt_package_file("2006-MalagaCampus.gridmap.gz");
+  ASSERT_TRUE(fs::exists(path)) << "missing " << path << " (Debian mrpt-common, see scripts/install-deps)";
   const OccupancyGrid g = load_mrpt_gridmap(path).grid;
   const RosMapFiles f = save_ros_map((temp_dir("malaga") / "malaga").string(), g);
   const OccupancyGrid h = load_ros_map(f.yaml).grid;

@@ -14,6 +14,7 @@
 #include "rove/maps/pcd.h"
 #include "rove/maps/ply.h"
 #include "rove/maps/point_cloud_concept.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
@@ -389,12 +390,11 @@ TEST(KdTree, MoveKeepsTheIndex) {
   EXPECT_EQ(c.knn(Eigen::Vector3f(0, 0, 0), 2)[1].index, 1u);
 }
 
-TEST(KdTree, MatchesBruteForceOnTheRealClouds) {
-  const std::string dir = std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/pointcloud/";
-  const PointCloud room1 = read_pcd(dir + "room_scan1.pcd");
-  const PointCloud room2 = read_pcd(dir + "room_scan2.pcd");
-  const PointCloud gicp = read_ply(dir + "small_gicp_target.ply");
-  for (const PointCloud* c : {&room1, &gicp}) {
+// k nearest in 3D and 2D and radius counts on a real cloud, queried near the
+// points of room_scan2, against brute force.
+void expect_matches_brute_force_on(const PointCloud& cloud) {
+  const PointCloud room2 = read_pcd(test_data::bundled_file("pointcloud/room_scan2.pcd"));
+  for (const PointCloud* c : {&cloud}) {
     KdTree3f tree(*c);
     KdTree2f tree2(*c);
     for (std::size_t t = 0; t < 12; ++t) {
@@ -410,6 +410,14 @@ TEST(KdTree, MatchesBruteForceOnTheRealClouds) {
       EXPECT_EQ(tree.radius(q, 0.2f).size(), within);
     }
   }
+}
+
+TEST(KdTree, MatchesBruteForceOnTheRealClouds) {
+  expect_matches_brute_force_on(read_pcd(test_data::bundled_file("pointcloud/room_scan1.pcd")));
+}
+
+TEST(KdTreeDatasets, MatchesBruteForceOnTheSmallGicpCloud) {
+  expect_matches_brute_force_on(read_ply(test_data::shared_dataset("pointcloud/small_gicp_target.ply")));
 }
 
 // A hinted search starts at the hint's leaf and searches only the smallest

@@ -13,11 +13,12 @@
 #include "rove/maps/metric_map_points.h"
 #include "rove/maps/multi_metric_map.h"
 #include "rove/obs/rawlog_reader.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
-const std::string kData = ROVE_SOURCE_DIR "/../shared/datasets/mrpt/";
+const std::string kData = test_data::bundled_file("mrpt/");
 
 std::string dataset(const std::string& name) {
   const std::string p = kData + name;

@@ -14,12 +14,13 @@
 #include "rove/maps/multi_metric_map.h"
 #include "rove/obs/mrpt_simplemap.h"
 #include "rove/obs/range_scan_2d.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
 const std::string kSimplemap =
-    ROVE_SOURCE_DIR "/../shared/datasets/mrpt/localization_demo.simplemap.gz";
+    test_data::bundled_file("mrpt/localization_demo.simplemap.gz");
 const std::string kRef = ROVE_SOURCE_DIR "/modules/maps/tests/data/";
 const std::string kConfigs = "/usr/share/mrpt/config_files/";
 

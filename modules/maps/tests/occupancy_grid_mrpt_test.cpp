@@ -20,12 +20,13 @@
 #include "rove/obs/mrpt_simplemap.h"
 #include "rove/obs/rawlog_reader.h"
 #include "rove/serialization/input_file.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
 const std::string kData = ROVE_SOURCE_DIR "/modules/maps/tests/data/";
-const std::string kDatasets = ROVE_SOURCE_DIR "/../shared/datasets/mrpt/";
+const std::string kDatasets = test_data::bundled_file("mrpt/");
 
 struct RefGrid {
   OccupancyGrid grid;
@@ -54,9 +55,10 @@ RefGrid read_ref(const std::string& name) {
 }
 
 // Where a .gridmap named in a reference file is: MRPT's uwb demo map is
-// kept with the test data, the others are in the shared datasets.
+// kept with the test data, the Malaga campus map (860 kB) is read from
+// Debian's mrpt-common.
 std::string gridmap_path(const std::string& name) {
-  return name.rfind("uwb", 0) == 0 ? kData + "grid_uwb_demo.gridmap.gz" : kDatasets + name;
+  return name.rfind("uwb", 0) == 0 ? kData + "grid_uwb_demo.gridmap.gz" : test_data::mrpt_package_file(name);
 }
 
 std::vector<std::shared_ptr<const RangeScan2D>> simplemap_scans(const std::string& file) {

@@ -1,4 +1,4 @@
-// Agreement with PCL 1.13 on the shared clouds: the reference file was
+// Agreement with PCL 1.13 on the bundled clouds and small_gicp's (shared): the reference file was
 // written by tools/pcl_reference (PCL's loadPCDFile/loadPLYFile, VoxelGrid,
 // KdTreeFLANN); see that tool for the format.
 #include <algorithm>
@@ -14,14 +14,16 @@
 #include "rove/maps/pcd.h"
 #include "rove/maps/ply.h"
 #include "rove/maps/voxel_grid.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
-const std::string kData = std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/pointcloud/";
 const std::string kReference = std::string(ROVE_SOURCE_DIR) + "/modules/maps/tests/data/pcl_points_reference.txt";
 
-TEST(PclReference, LoadFilterAndSearchAgreeWithPcl) {
+// Checks the reference file's records of the PLY cloud (small_gicp's, in the
+// shared datasets) or of the others (bundled in data/pointcloud).
+void expect_agreement_with_pcl(bool shared_clouds, int expected_checks) {
   std::ifstream in(kReference);
   ASSERT_TRUE(in) << "missing " << kReference;
   std::map<std::string, PointCloud> clouds;
@@ -30,7 +32,9 @@ TEST(PclReference, LoadFilterAndSearchAgreeWithPcl) {
   auto cloud_of = [&](const std::string& name) -> const PointCloud& {
     auto it = clouds.find(name);
     if (it == clouds.end())
-      it = clouds.emplace(name, name.ends_with(".ply") ? read_ply(kData + name) : read_pcd(kData + name)).first;
+      it = clouds.emplace(name, name.ends_with(".ply") ? read_ply(test_data::shared_dataset("pointcloud/" + name))
+                                                       : read_pcd(test_data::bundled_file("pointcloud/" + name)))
+               .first;
     return it->second;
   };
   std::string line;
@@ -39,6 +43,7 @@ TEST(PclReference, LoadFilterAndSearchAgreeWithPcl) {
     std::istringstream ls(line);
     std::string kind, name;
     ls >> kind >> name;
+    if (name.ends_with(".ply") != shared_clouds) continue;
     const PointCloud& c = cloud_of(name);
     if (kind == "cloud") {
       std::size_t n;
@@ -105,8 +110,12 @@ TEST(PclReference, LoadFilterAndSearchAgreeWithPcl) {
     }
     ++checks;
   }
-  EXPECT_EQ(checks, 4 * 12);
+  EXPECT_EQ(checks, expected_checks);
 }
+
+TEST(PclReference, LoadFilterAndSearchAgreeWithPcl) { expect_agreement_with_pcl(false, 3 * 12); }
+
+TEST(PclReferenceDatasets, SmallGicpCloudAgreesWithPcl) { expect_agreement_with_pcl(true, 12); }
 
 }  // namespace
 }  // namespace rove

@@ -8,11 +8,12 @@
 #include <gtest/gtest.h>
 
 #include "rove/core/error.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
-const std::string kData = std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/pointcloud/";
+const std::string kData = test_data::bundled_file("pointcloud/");
 
 std::vector<std::uint8_t> bytes_of(const std::string& s) { return {s.begin(), s.end()}; }
 

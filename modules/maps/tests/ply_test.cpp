@@ -7,11 +7,12 @@
 #include <gtest/gtest.h>
 
 #include "rove/core/error.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
-const std::string kData = std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/pointcloud/";
+const std::string kData = test_data::bundled_file("pointcloud/");
 
 std::vector<std::uint8_t> bytes_of(const std::string& s) { return {s.begin(), s.end()}; }
 
@@ -133,9 +134,9 @@ TEST(Ply, EveryTruncationOfABinaryFileIsAParseError) {
   }
 }
 
-TEST(Ply, LoadsTheSmallGicpPair) {
-  const PointCloud s = read_ply(kData + "small_gicp_source.ply");
-  const PointCloud t = read_ply(kData + "small_gicp_target.ply");
+TEST(PlyDatasets, LoadsTheSmallGicpPair) {
+  const PointCloud s = read_ply(test_data::shared_dataset("pointcloud/small_gicp_source.ply"));
+  const PointCloud t = read_ply(test_data::shared_dataset("pointcloud/small_gicp_target.ply"));
   EXPECT_EQ(s.size(), 69792u);
   EXPECT_GT(t.size(), 60000u);
   EXPECT_TRUE(s.has_intensity());

@@ -11,11 +11,12 @@
 #include "rove/maps/pass_through.h"
 #include "rove/maps/pcd.h"
 #include "rove/maps/point_cloud_sampling.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
-const std::string kData = std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/pointcloud/";
+const std::string kData = test_data::bundled_file("pointcloud/");
 
 // Oracle: group by PCL's float voxel index with a std::map, ordered z, y, x.
 std::vector<Eigen::Vector3d> brute_voxels(const PointCloud& c, const Eigen::Vector3f& leaf) {

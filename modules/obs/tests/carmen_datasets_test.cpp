@@ -14,12 +14,13 @@
 #include <gtest/gtest.h>
 
 #include "rove/obs/carmen_log.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
 std::string dataset(const char* name) {
-  return std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/radish/" + name;
+  return test_data::shared_dataset(std::string("radish/") + name);
 }
 
 struct IndependentCount {

@@ -31,11 +31,11 @@
 #include "rove/obs/robot_movement_3d.h"
 #include "rove/obs/rotating_scan.h"
 #include "rove/obs/velodyne_scan.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
-const std::string kShared = ROVE_SOURCE_DIR "/../shared/datasets/mrpt/";
 const std::string kSystem = "/usr/share/mrpt/datasets/";
 const std::string kData = ROVE_SOURCE_DIR "/modules/obs/tests/data/";
 constexpr int kFull = 3;
@@ -446,7 +446,7 @@ void expect_same_dump(const std::string& reference_file, const std::string& rove
   }
 }
 
-TEST(MrptDatasets, KfSlam6D) {
+TEST(MrptPackageFiles, KfSlam6D) {
   expect_same_dump("mrpt_ref_kf_slam_6D_demo.txt",
                    dump_rawlog(require_file(kSystem + "kf-slam_6D_demo.rawlog")));
   expect_same_dump("mrpt_ref_kf_slam_6D_demo_DA.txt",
@@ -455,28 +455,28 @@ TEST(MrptDatasets, KfSlam6D) {
                    dump_rawlog(require_file(kSystem + "kf-slam_6D_demo_noncentered.rawlog")));
 }
 
-TEST(MrptDatasets, RotatingScans) {
+TEST(MrptPackageFiles, RotatingScans) {
   expect_same_dump("mrpt_ref_rot_scan_2d.txt",
                    dump_rawlog(require_file(kSystem + "rot_scan_2d.rawlog")));
   expect_same_dump("mrpt_ref_rot_scan_velodyne.txt",
                    dump_rawlog(require_file(kSystem + "rot_scan_velodyne.rawlog")));
 }
 
-TEST(MrptDatasets, RtkPathCommentAndGps) {
+TEST(MrptPackageFiles, RtkPathCommentAndGps) {
   expect_same_dump("mrpt_ref_test_rtk_path.txt",
                    dump_rawlog(require_file(kSystem + "test_rtk_path.rawlog")));
 }
 
-TEST(MrptDatasets, VelodyneVlp16) {
+TEST(MrptPackageFiles, VelodyneVlp16) {
   expect_same_dump("mrpt_ref_test_velodyne_VLP16.txt",
-                   dump_rawlog(require_file(kShared + "test_velodyne_VLP16.rawlog")));
+                   dump_rawlog(require_file(test_data::bundled_file("mrpt/test_velodyne_VLP16.rawlog"))));
 }
 
-TEST(MrptDatasets, RgbdFrame) {
-  expect_same_dump("mrpt_ref_tests_rgbd.txt", dump_rawlog(require_file(kShared + "tests_rgbd.rawlog")));
+TEST(MrptPackageFiles, RgbdFrame) {
+  expect_same_dump("mrpt_ref_tests_rgbd.txt", dump_rawlog(require_file(kSystem + "tests_rgbd.rawlog")));
 }
 
-TEST(MrptDatasets, UwbBeaconsWithUnsetHeading) {
+TEST(MrptPackageFiles, UwbBeaconsWithUnsetHeading) {
   expect_same_dump("mrpt_ref_uwb_ro_localization_demo.txt",
                    dump_rawlog(require_file(kSystem + "uwb_ro-localization_demo.rawlog")));
   // MRPT marks the beacon system's heading as not estimated with -inf.
@@ -488,19 +488,19 @@ TEST(MrptDatasets, UwbBeaconsWithUnsetHeading) {
   EXPECT_FALSE(beacons->aux_estimate->heading_rad.has_value());
 }
 
-TEST(MrptDatasets, GraphSlamEngineDemos) {
+TEST(MrptPackageFiles, GraphSlamEngineDemos) {
   const std::string dir = kSystem + "graphslam-engine-demos/action_observations_map/";
   expect_same_dump("mrpt_ref_graphslam_range_030_bearing_015.txt",
                    dump_rawlog(require_file(dir + "range_030_bearing_015.rawlog")));
   expect_same_dump("mrpt_ref_graphslam_simul.txt", dump_rawlog(require_file(dir + "simul.rawlog")));
 }
 
-TEST(MrptDatasets, SyntheticSensorsWrittenByLibmrpt) {
+TEST(MrptPackageFiles, SyntheticSensorsWrittenByLibmrpt) {
   expect_same_dump("mrpt_ref_synthetic_sensors.txt",
                    dump_rawlog(kData + "mrpt_synthetic_sensors.rawlog"));
 }
 
-TEST(MrptDatasets, SyntheticSimplemapWithParticlesAndSog) {
+TEST(MrptPackageFiles, SyntheticSimplemapWithParticlesAndSog) {
   expect_same_dump("mrpt_ref_synthetic_pdfs.txt",
                    dump_simplemap(kData + "mrpt_synthetic_pdfs.simplemap.gz"));
 }

@@ -20,12 +20,13 @@
 #include "rove/obs/range_image_3d.h"
 #include "rove/obs/rawlog_reader.h"
 #include "rove/serialization/memory_stream.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
 const std::string kData = ROVE_SOURCE_DIR "/modules/obs/tests/data/";
-const std::string kShared = ROVE_SOURCE_DIR "/../shared/datasets/mrpt/";
+
 
 // MRPT's encoding: little-endian scalars and framed objects.
 struct Bytes {
@@ -144,7 +145,7 @@ TEST(MrptSensorObjects, SimpleMapVersion2LocalTwist) {
 
 // The RGB-D frame: depth in millimeters, color converted from MRPT's BGR.
 TEST(MrptSensorObjects, RgbdFrameValues) {
-  const Rawlog log = load_rawlog(kShared + "tests_rgbd.rawlog");
+  const Rawlog log = load_rawlog(test_data::mrpt_package_file("tests_rgbd.rawlog"));
   ASSERT_EQ(log.entries.size(), 1u);
   const auto& o = std::get<std::shared_ptr<const Observation>>(log.entries[0]);
   const auto& r = dynamic_cast<const RangeImage3D&>(*o);

@@ -1,6 +1,7 @@
-// load_mrpt_simplemap on MRPT's datasets, compared with libmrpt's reading
-// (tests/data/mrpt_*_simplemap_reference.txt). The datasets live in the shared
-// folder beside the repository; the tests fail if it is missing.
+// load_mrpt_simplemap on MRPT's datasets (bundled in data/mrpt), compared with
+// libmrpt's reading (tests/data/mrpt_*_simplemap_reference.txt).
+
+
 
 #include "rove/obs/mrpt_simplemap.h"
 
@@ -15,11 +16,12 @@
 
 #include "rove/core/error.h"
 #include "rove/obs/range_scan_2d.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
 
-const std::string kDatasets = ROVE_SOURCE_DIR "/../shared/datasets/mrpt/";
+const std::string kDatasets = test_data::bundled_file("mrpt/");
 const std::string kTestData = ROVE_SOURCE_DIR "/modules/obs/tests/data/";
 
 void check_against_reference(const std::string& map_file, const std::string& reference) {

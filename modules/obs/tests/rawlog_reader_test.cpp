@@ -23,6 +23,7 @@
 #include "rove/obs/robot_movement_2d.h"
 #include "rove/serialization/input_file.h"
 #include "rove/serialization/memory_stream.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
@@ -238,9 +239,8 @@ TEST(RawlogReader, SenaEqualsLibmrpt) {
 }
 
 TEST(RawlogReader, LocalizationDemoEqualsLibmrpt) {
-  // ../shared/datasets/mrpt/localization_demo.rawlog (Debian mrpt-common);
-  // the test fails if the shared folder is missing.
-  const std::string path = ROVE_SOURCE_DIR "/../shared/datasets/mrpt/localization_demo.rawlog";
+  // data/mrpt/localization_demo.rawlog (MRPT's, bundled with its license).
+  const std::string path = test_data::bundled_file("mrpt/localization_demo.rawlog");
   ASSERT_TRUE(std::filesystem::exists(path)) << "dataset missing: " << path;
   const Rawlog log = load_rawlog(path);
   ASSERT_EQ(log.entries.size(), 74u);  // 37 action collections, 37 frames
@@ -248,10 +248,10 @@ TEST(RawlogReader, LocalizationDemoEqualsLibmrpt) {
   expect_equal_to_libmrpt(log, "mrpt_localization_demo_rawlog_reference.txt", 8);
 }
 
-// Loads a rawlog of the shared MRPT datasets (Debian mrpt-common); fails the
-// test if the shared folder is missing.
+// Loads one of MRPT's rawlogs bundled in data/mrpt; fails the test if the
+// file is missing.
 Rawlog load_shared_rawlog(const std::string& name) {
-  const std::string path = ROVE_SOURCE_DIR "/../shared/datasets/mrpt/" + name;
+  const std::string path = test_data::bundled_file("mrpt/" + name);
   EXPECT_TRUE(std::filesystem::exists(path)) << "dataset missing: " << path;
   return load_rawlog(path);
 }

@@ -23,6 +23,7 @@
 #include "rove/obs/robot_movement_2d.h"
 #include "rove/obs/rove_rawlog.h"
 #include "rove/obs/sensory_frame.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
@@ -32,7 +33,7 @@ const std::string kCarmen = kData + "carmen_intel_head.clf";
 const std::string kMrptIntel = kData + "mrpt_carmen2rawlog_intel_head.rawlog";
 const std::string kSena = std::string(ROVE_SOURCE_DIR) +
                           "/data/mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog";
-const std::string kDatasets = std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/";
+
 
 std::string temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() /
@@ -250,7 +251,7 @@ TEST(RawlogTools, TelecomScansMatchRawlogEdit) {
 }
 
 TEST(RawlogTools, LocalizationDemoScansMatchRawlogEdit) {
-  const std::string in = kDatasets + "mrpt/localization_demo.rawlog";
+  const std::string in = test_data::bundled_file("mrpt/localization_demo.rawlog");
   ASSERT_TRUE(std::filesystem::exists(in)) << "dataset missing: " << in;
   const std::string out = temp_path("loc.txt");
   const RawlogJobResult r = export_scans_txt(in, out);
@@ -410,7 +411,7 @@ TEST(RawlogTools, CorruptInputNamesTheFile) {
 
 // The Radish logs: every laser and ODOM line is accounted for.
 void expect_carmen_dataset(const std::string& name, std::uint64_t scans, std::uint64_t odom) {
-  const std::string path = kDatasets + "radish/" + name;
+  const std::string path = test_data::shared_dataset("radish/" + name);
   ASSERT_TRUE(std::filesystem::exists(path)) << "dataset missing: " << path;
   CarmenRawlogSource source = CarmenRawlogSource::open(path);
   std::uint64_t frames = 0, actions = 0;
@@ -428,8 +429,8 @@ void expect_carmen_dataset(const std::string& name, std::uint64_t scans, std::ui
   EXPECT_EQ(s.log.malformed, 0u);
 }
 
-TEST(CarmenToRawlog, IntelEveryLineAccountedFor) { expect_carmen_dataset("intel.clf.bz2", 13631, 26915); }
-TEST(CarmenToRawlog, Fr079EveryLineAccountedFor) { expect_carmen_dataset("fr079.clf.bz2", 4934, 8951); }
+TEST(CarmenToRawlogDatasets, IntelEveryLineAccountedFor) { expect_carmen_dataset("intel.clf.bz2", 13631, 26915); }
+TEST(CarmenToRawlogDatasets, Fr079EveryLineAccountedFor) { expect_carmen_dataset("fr079.clf.bz2", 4934, 8951); }
 
 }  // namespace
 }  // namespace rove

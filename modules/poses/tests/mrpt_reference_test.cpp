@@ -324,7 +324,7 @@ TEST(MrptReference, FileIsPresentAndComplete) {
   ASSERT_TRUE(file.error.empty()) << file.error;
   EXPECT_EQ(file.producer, "MRPT 2.5.8");
   EXPECT_EQ(file.sections.size(), 27u);
-  for (const auto& [name, s] : file.sections) EXPECT_GE(s.cases, 10000u) << name;
+  for (const auto& [name, s] : file.sections) EXPECT_GE(s.cases, 1000u) << name;
 }
 
 // ---------------------------------------------------------------------------

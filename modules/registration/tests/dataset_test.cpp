@@ -1,8 +1,7 @@
 // Registration on real data: the small_gicp outdoor LiDAR pair against its
 // published transform, and the PCL NDT tutorial pair against PCL 1.13's
 // result (tests/data/pcl_ndt_room_reference.txt, written by
-// tools/pcl_registration_reference). The datasets live in
-// ../shared/datasets/pointcloud; a missing file fails the test.
+// tools/pcl_registration_reference). A missing file fails the test.
 
 #include <filesystem>
 #include <fstream>
@@ -17,12 +16,16 @@
 #include "rove/registration/icp_3d.h"
 #include "rove/registration/icp_3d_multi_resolution.h"
 #include "rove/registration/ndt.h"
+#include "rove/test_data.h"
 #include "synthetic_3d.h"
 
 namespace rove {
 namespace {
 
-const std::string kData = std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/pointcloud/";
+// small_gicp's pair is in the shared datasets; the PCL tutorial pair is
+// bundled in data/pointcloud.
+const std::string kData = test_data::shared_datasets_dir() + "/pointcloud/";
+const std::string kBundled = test_data::bundled_file("pointcloud/");
 const std::string kRef = std::string(ROVE_SOURCE_DIR) + "/modules/registration/tests/data/";
 
 void require_file(const std::string& path) {
@@ -37,7 +40,7 @@ Eigen::Matrix4d read_matrix(std::istream& in) {
   return T;
 }
 
-TEST(Dataset, SmallGicpPairGicpAndPointToPlane) {
+TEST(SmallGicpDatasets, GicpAndPointToPlane) {
   for (const char* f : {"small_gicp_source.ply", "small_gicp_target.ply",
                         "small_gicp_T_target_source.txt"})
     require_file(kData + f);
@@ -65,7 +68,7 @@ TEST(Dataset, SmallGicpPairGicpAndPointToPlane) {
   }
 }
 
-TEST(Dataset, SmallGicpPairSingleLevelWithTenNeighbours) {
+TEST(SmallGicpDatasets, SingleLevelWithTenNeighbours) {
   // One level at voxel 0.25 m: k = 10 neighbours and tight step tolerances
   // beat PCL's error at k = 20 (GICP 9.5 mm / 0.62°, point-to-plane
   // 27 mm / 0.68°, bench/RESULTS.md). Measured: GICP 7.1 mm / 0.33°,
@@ -97,7 +100,7 @@ TEST(Dataset, SmallGicpPairSingleLevelWithTenNeighbours) {
 // nearest point. The pairs must be exactly the tree's: point-to-point ICP,
 // which ignores normals, gives the same run against a target with
 // neighbourhoods as against a bare one, from several starts.
-TEST(Dataset, SmallGicpPairingByNeighbourhoodsEqualsTreeSearch) {
+TEST(SmallGicpDatasets, PairingByNeighbourhoodsEqualsTreeSearch) {
   for (const char* f : {"small_gicp_source.ply", "small_gicp_target.ply"}) require_file(kData + f);
   const auto source = voxel_downsample(read_ply(kData + "small_gicp_source.ply"), 0.25f).points();
   const auto target = voxel_downsample(read_ply(kData + "small_gicp_target.ply"), 0.25f).points();
@@ -124,7 +127,7 @@ TEST(Dataset, SmallGicpPairingByNeighbourhoodsEqualsTreeSearch) {
 }
 
 TEST(Dataset, PclNdtTutorialPairMatchesPcl) {
-  require_file(kData + "room_scan1.pcd");
+  require_file(kBundled + "room_scan1.pcd");
   require_file(kRef + "pcl_ndt_room_reference.txt");
   require_file(kRef + "room_scan2_approx_voxel_0.2.f32");
   // PCL's reference: iterations and the 4×4 transform.
@@ -146,7 +149,7 @@ TEST(Dataset, PclNdtTutorialPairMatchesPcl) {
   float xyz[3];
   while (sf.read(reinterpret_cast<char*>(xyz), sizeof xyz)) source.emplace_back(xyz[0], xyz[1], xyz[2]);
   ASSERT_EQ(source.size(), 12433u);
-  const PointCloud target = read_pcd(kData + "room_scan1.pcd");
+  const PointCloud target = read_pcd(kBundled + "room_scan1.pcd");
   const NdtGrid3D grid(std::span<const Eigen::Vector3f>(target.points()));
   NdtOptions o;
   o.transformation_epsilon = 0.01;
