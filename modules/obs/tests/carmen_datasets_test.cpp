@@ -86,7 +86,7 @@ std::vector<double> numbers_of(const std::string& line, std::string& host) {
 void check_dataset(const char* name, std::size_t readme_scans, std::size_t expected_rays) {
   const std::string path = dataset(name);
   ASSERT_TRUE(std::filesystem::exists(path))
-      << "dataset missing: " << path << " (the real-data tests need ../shared/datasets/radish)";
+      << "dataset missing: " << path;
   const IndependentCount expected = count_independently(path);
   EXPECT_EQ(expected.flaser, readme_scans);  // the dataset README's count
 

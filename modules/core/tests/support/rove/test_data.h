@@ -7,11 +7,12 @@
 //   mrpt_package_file("x")        MRPT's datasets from Debian's mrpt-common
 //                                 (installed by scripts/install-deps);
 //   shared_dataset("radish/x")    the large datasets, ROVE_DATASETS_DIR (by
-//                                 default ../shared/datasets beside the project).
+//                                 default shared/datasets in the folder that
+//                                 holds the project).
 //
 // Only a test whose suite name ends in "Datasets" may call shared_dataset():
 // ctest labels those tests `datasets` and disables them when the folder is
-// absent, unless ROVE_REQUIRE_DATASETS=1 (README, "Tests").
+// absent, unless ROVE_REQUIRE_DATASETS=1 (README, "Quick start").
 #include <filesystem>
 #include <string>
 #include <string_view>
