@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   const double angle_gap = std::abs(std::remainder(end.phi() - mrpt_phi, 2.0 * std::numbers::pi));
 
   std::printf("%s: %zu steps, %zu ICP alignments, %zu accepted, %zu keyframes\n", rawlog.c_str(),
-              run.steps.size(), stats.icp_runs, stats.icp_accepted, stats.insertions);
+              run.steps.size(), stats.icp_runs, stats.icp_accepted, slam.keyframes().size());
   std::printf("end pose (%.3f, %.3f, %.4f rad); odometry alone ends at (%.3f, %.3f, %.4f rad)\n", end.x(),
               end.y(), end.phi(), odometry_end.x(), odometry_end.y(), odometry_end.phi());
   std::printf("distance to MRPT's end pose: %.3f m, %.2f deg\n", position_gap, angle_gap * 180.0 / std::numbers::pi);

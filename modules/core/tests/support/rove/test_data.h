@@ -13,6 +13,7 @@
 // Only a test whose suite name ends in "Datasets" may call shared_dataset():
 // ctest labels those tests `datasets` and disables them when the folder is
 // absent, unless ROVE_REQUIRE_DATASETS=1 (README, "Quick start").
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -31,14 +32,18 @@ inline std::string mrpt_package_file(std::string_view name) {
   return "/usr/share/mrpt/datasets/" + std::string(name);
 }
 
-/// The folder of the large shared datasets (ROVE_DATASETS_DIR), unchecked.
-inline std::string shared_datasets_dir() { return ROVE_DATASETS_DIR; }
+/// The folder of the large shared datasets, unchecked: the environment's
+/// ROVE_DATASETS_DIR when set, else the one CMake was configured with.
+inline std::string shared_datasets_dir() {
+  if (const char* env = std::getenv("ROVE_DATASETS_DIR"); env != nullptr && *env != '\0') return env;
+  return ROVE_DATASETS_DIR;
+}
 
 /// A file of the large shared datasets. A missing file fails the test (not a
 /// skip): in a run without the folder these tests are disabled by ctest, so a
 /// failure here means the folder is there but incomplete, or CI lacks it.
 inline std::string shared_dataset(std::string_view relative) {
-  const std::string path = std::string(ROVE_DATASETS_DIR) + "/" + std::string(relative);
+  const std::string path = shared_datasets_dir() + "/" + std::string(relative);
   EXPECT_TRUE(std::filesystem::exists(path))
       << "dataset missing: " << path
       << " (tests of a *Datasets suite need the shared datasets; `ctest -LE datasets` leaves them out)";
