@@ -190,9 +190,9 @@ struct AutoInitCase {
   double chi2;  // final χ² from the automatic start
 };
 
-class AutoInitialGuess : public ::testing::TestWithParam<AutoInitCase> {};
+class AutoInitialGuessDatasets : public ::testing::TestWithParam<AutoInitCase> {};
 
-TEST_P(AutoInitialGuess, ReachesTheBetterMinimum) {
+TEST_P(AutoInitialGuessDatasets, ReachesTheBetterMinimum) {
   const AutoInitCase& c = GetParam();
   const std::string path = test::posegraph_dataset(c.file);
   GraphOptimizerOptions o;
@@ -214,7 +214,7 @@ TEST_P(AutoInitialGuess, ReachesTheBetterMinimum) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Datasets, AutoInitialGuess,
+    Datasets, AutoInitialGuessDatasets,
     ::testing::Values(AutoInitCase{"torus3D.g2o", true, 14574.74644},
                       AutoInitCase{"sphere2500.txt", true, 728.8538999},
                       AutoInitCase{"intel.g2o", false, 45.00469581},
@@ -224,7 +224,7 @@ INSTANTIATE_TEST_SUITE_P(
       return n.substr(0, n.find('.'));
     });
 
-TEST(InitialGuess, AutoKeepsStoredPosesThatAreAlreadyBetter) {
+TEST(InitialGuessDatasets, AutoKeepsStoredPosesThatAreAlreadyBetter) {
   PoseGraph2D g = read_graph_2d(test::posegraph_dataset("intel.g2o"));
   ASSERT_TRUE(optimize(g).ok());  // stored poses now at the optimum
   const double optimum = compute_chi2(g);
