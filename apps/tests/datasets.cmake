@@ -11,6 +11,6 @@ set_tests_properties(tests.datasets_label PROPERTIES LABELS cli
 # rove/test_data.h (shared_dataset) or ROVE_DATASETS_DIR, so the folder can be
 # moved and the label stays true.
 add_test(NAME tests.datasets_paths_through_the_helper
-  COMMAND sh -c "! grep -rn -e '\\.\\./shared' --include=*.cpp --include=*.h modules/*/tests apps/tests/*.cmake"
+  COMMAND sh -c "! grep -rn -e '\\.\\./shared' --include=*.cpp --include=*.h modules/*/tests apps/tests/*.cmake apps/tests/*.sh"
   WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
 set_tests_properties(tests.datasets_paths_through_the_helper PROPERTIES LABELS cli)

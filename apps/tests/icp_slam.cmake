@@ -107,5 +107,6 @@ set_tests_properties(cli.icp_slam_json_non_utf8 PROPERTIES LABELS cli)
 # Ctrl-C stops a long run cleanly (exit 130, nothing written, says so).
 add_test(NAME cli.icp_slam_interrupt COMMAND sh
   ${CMAKE_CURRENT_SOURCE_DIR}/tests/icp_slam_interrupt.sh $<TARGET_FILE:rove> ${PROJECT_SOURCE_DIR}
-  ${rove_icp_dir}/interrupt)
+  ${rove_icp_dir}/interrupt ${ROVE_DATASETS_DIR})
 set_tests_properties(cli.icp_slam_interrupt PROPERTIES LABELS cli SKIP_RETURN_CODE 77 TIMEOUT 60)
+rove_dataset_tests(cli.icp_slam_interrupt)

@@ -3,12 +3,12 @@
 # saying how far it got and that nothing was written, no file (and no
 # temporary file) in the output folder. Runs on the Radish Intel log (over a
 # minute of mapping); skipped (exit 77) when the datasets are absent.
-# Usage: icp_slam_interrupt.sh ROVE SOURCE_DIR WORKDIR
+# Usage: icp_slam_interrupt.sh ROVE SOURCE_DIR WORKDIR DATASETS_DIR
 set -u
 rove=$1
 source_dir=$2
 work=$3
-log="$source_dir/../shared/datasets/radish/intel.clf.bz2"
+log="$4/radish/intel.clf.bz2"
 if [ ! -f "$log" ]; then
   echo "skipped: $log is absent"
   exit 77

@@ -21,6 +21,7 @@
 #include "rove/obs/range_scan_2d.h"
 #include "rove/obs/rawlog_tools.h"
 #include "rove/obs/selection_error.h"
+#include "rove/test_data.h"
 
 namespace rove {
 namespace {
@@ -31,7 +32,7 @@ const std::string kData = std::string(ROVE_SOURCE_DIR) + "/modules/obs/tests/dat
 const std::string kCarmen = kData + "carmen_intel_head.clf";
 const std::string kSena = std::string(ROVE_SOURCE_DIR) +
                           "/data/mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog";
-const std::string kDatasets = std::string(ROVE_SOURCE_DIR) + "/../shared/datasets/";
+const std::string kDatasets = test_data::shared_datasets_dir() + "/";
 
 // A fresh folder per test, removed at the end.
 class TempDir {
@@ -295,7 +296,7 @@ TEST(CarmenMaxRange, SkippedBadParamIsCountedOnce) {
 
 // ACES: readings of exactly 50.00 m mean "no return" (11,139 of them); with
 // the maximum at 50 m none of them is a valid point.
-TEST(CarmenMaxRange, AcesNoReturnReadingsAreInvalid_Regression) {
+TEST(CarmenMaxRangeDatasets, AcesNoReturnReadingsAreInvalid_Regression) {
   const std::string path = kDatasets + "radish/aces.clf.bz2";
   if (!fs::exists(path)) GTEST_SKIP() << "dataset missing: " << path;
   CarmenLogOptions o;
