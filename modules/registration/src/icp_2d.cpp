@@ -49,7 +49,7 @@ void Icp2dOptions::check() const {
   ROVE_CHECK_MSG(degeneracy_threshold >= 0 && degeneracy_threshold < 1,
                  "degeneracy_threshold must be in [0, 1), got {}", degeneracy_threshold);
   ROVE_CHECK_GE(normal_neighbors, 3u);
-  ROVE_CHECK_GE(num_threads, 1);
+  (void)resolve_thread_count(num_threads, "num_threads");
   ransac.check();
 }
 
@@ -655,8 +655,11 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
 }
 
 Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
-                   const Pose2& initial, const Icp2dOptions& o) {
-  o.check();
+                   const Pose2& initial, const Icp2dOptions& options) {
+  options.check();
+  // 0 threads means all hardware threads; the count is resolved once here.
+  Icp2dOptions o = options;
+  o.num_threads = resolve_thread_count(options.num_threads, "num_threads");
   ROVE_CHECK_MSG(o.metric != Icp2dMetric::PointToLine || target.has_normals(),
                  "the point-to-line metric needs target normals: build the IcpTarget2D with "
                  "normal_neighbors > 0");

@@ -8,6 +8,7 @@
 
 #include "rove/core/check.h"
 #include "rove/core/cpu.h"
+#include "rove/core/interrupt.h"
 #include "rove/math/se3.h"
 #include "rove/registration/degeneracy.h"
 #include "rove/core/parallel.h"
@@ -32,7 +33,8 @@ void Icp3dOptions::check() const {
   ROVE_CHECK_MSG(degeneracy_threshold >= 0 && degeneracy_threshold < 1,
                  "degeneracy_threshold must be in [0, 1), got {}", degeneracy_threshold);
   ROVE_CHECK_GE(normal_neighbors, std::size_t{3});
-  ROVE_CHECK_GE(num_threads, 1);
+  ROVE_CHECK_GE(lm_max_tries, 1);
+  (void)resolve_thread_count(num_threads, "Icp3dOptions::num_threads");
 }
 
 namespace {
@@ -471,12 +473,26 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
 
   std::vector<std::int64_t> slot;
   std::vector<Pair3> pairs;
-  bool converged = false, diverged = false, too_few = false;
+  bool converged = false, diverged = false, too_few = false, stalled = false;
+  // Set when the run ends on a step that lowered no cost: the size of the
+  // undamped Gauss–Newton step at the estimate (rotation rad, translation m).
+  double stall_rotation = 0, stall_translation = 0;
   Linear6 lin;
-  ThreadTeam team(o.num_threads);
+  ThreadTeam team(resolve_thread_count(o.num_threads, "Icp3dOptions::num_threads"));
+  const auto within_tolerances = [&](const Vec6& d) {
+    return d.tail<3>().norm() < o.rotation_epsilon && d.head<3>().norm() < o.translation_epsilon;
+  };
   o.kernel.visit([&](const auto& kernel) {
-    double lambda = o.lm_initial_lambda;
+    // Levenberg–Marquardt damping μ, in the units of H: it starts at
+    // lm_initial_lambda × max diag(H) of the first linearization and follows
+    // Nielsen's update (Madsen, Nielsen & Tingleff, "Methods for non-linear
+    // least squares problems", 2004, eq. 3.15-3.16 and Algorithm 3.16). An
+    // absolute damping is meaningless here: a GICP Hessian holds thousands
+    // of pairs weighted by up to 1/ε each, so a damping of a few thousand
+    // leaves a step that raises the cost unchanged.
+    double mu = -1;
     for (int it = 0; it < o.max_iterations; ++it) {
+      throw_if_interrupted();
       find_pairs(target, source, T, o.max_correspondence_distance, team, slot, pairs);
       res.iterations = it + 1;
       if (pairs.size() < o.min_correspondences) {
@@ -484,36 +500,59 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
         return;
       }
       lin = linearize(target, source, pairs, T, o.method, kernel, false, team);
-      // Levenberg–Marquardt on the fixed pairs: raise the damping until the
-      // cost decreases (at most 10 tries; a zero step means converged).
+      if (!lin.H.allFinite() || !lin.b.allFinite() || !std::isfinite(lin.cost)) {
+        diverged = true;
+        return;
+      }
+      const double max_diag = std::max(lin.H.diagonal().maxCoeff(), 1e-300);
+      if (mu < 0) mu = std::max(o.lm_initial_lambda, 1e-15) * max_diag;
+      // Damped steps on the fixed pairs until one lowers their cost. The
+      // model of Σρ around T is cost + 2bᵀδ + δᵀHδ (IRLS weights), so the
+      // predicted decrease of δ = −(H + μI)⁻¹b is δᵀHδ + 2μ‖δ‖².
+      double nu = 2;
       Vec6 delta = Vec6::Zero();
       Eigen::Isometry3d T_new = T;
       bool accepted = false;
-      for (int tries = 0; tries < 10; ++tries) {
-        const Mat6 A = lin.H + lambda * Mat6::Identity();
+      for (int tries = 0; tries < o.lm_max_tries; ++tries) {
+        const Mat6 A = lin.H + mu * Mat6::Identity();
         delta = A.ldlt().solve(-lin.b);
         if (!delta.allFinite()) break;
         T_new = T * Eigen::Isometry3d(SE3d::exp(delta).matrix());
         const Linear6 trial = linearize(target, source, pairs, T_new, o.method, kernel, true, team);
-        if (trial.cost <= lin.cost) {
-          lambda = std::max(lambda / 10.0, o.lm_initial_lambda);
+        const double predicted = delta.dot(lin.H * delta) + 2 * mu * delta.squaredNorm();
+        if (std::isfinite(trial.cost) && trial.cost < lin.cost && predicted > 0) {
+          const double gain = (lin.cost - trial.cost) / predicted;
+          mu *= std::max(1.0 / 3.0, 1 - std::pow(2 * gain - 1, 3));
+          mu = std::max(mu, 1e-15 * max_diag);  // keep H + μI well scaled
           accepted = true;
           break;
         }
-        lambda = std::max(lambda * 10.0, 1e-9);
+        // A step within the tolerances that still raises the cost: damping
+        // further only shortens it (towards the gradient), stop here.
+        if (within_tolerances(delta)) break;
+        mu *= nu;
+        nu *= 2;
       }
       if (!delta.allFinite() || !T_new.matrix().allFinite()) {
         diverged = true;
         return;
       }
       if (!accepted) {
-        // No decrease even with heavy damping: a minimum of the current pairing.
-        converged = true;
+        // No damped step lowered the cost. The estimate is a minimum of this
+        // pairing only if the undamped Gauss–Newton step is itself within
+        // the tolerances; otherwise the solve stalled away from one.
+        const Vec6 gn = (lin.H + 1e-12 * max_diag * Mat6::Identity()).ldlt().solve(-lin.b);
+        stall_rotation = gn.tail<3>().norm();
+        stall_translation = gn.head<3>().norm();
+        if (gn.allFinite() && within_tolerances(gn)) {
+          converged = true;
+        } else {
+          stalled = true;
+        }
         return;
       }
       T = T_new;
-      if (delta.tail<3>().norm() < o.rotation_epsilon &&
-          delta.head<3>().norm() < o.translation_epsilon) {
+      if (within_tolerances(delta)) {
         converged = true;
         return;
       }
@@ -587,10 +626,20 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
         "the matched geometry leaves a direction unconstrained (conditioning {:.3g} < {:.3g}, "
         "e.g. a single plane)",
         res.conditioning, o.degeneracy_threshold);
+  } else if (stalled) {
+    res.termination = RegistrationTermination::Stalled;
+    res.message = fmt::format(
+        "no damped step lowered the cost at iteration {} (the Gauss–Newton step was {:.3g} m, "
+        "{:.3g}°, above the tolerances); the estimate is the last one that did{}",
+        res.iterations, stall_translation, stall_rotation * 180 / 3.14159265358979323846,
+        res.iterations == 1 ? " (the initial guess)" : "");
   } else if (converged) {
     res.termination = RegistrationTermination::Converged;
-    res.message = fmt::format("converged in {} iterations, {} pairs, fitness {:.4g} m²",
-                              res.iterations, res.correspondences, res.fitness);
+    res.message = fmt::format("converged in {} iterations, {} pairs, fitness {:.4g} m²{}",
+                              res.iterations, res.correspondences, res.fitness,
+                              stall_rotation > 0 || stall_translation > 0
+                                  ? " (the last step, within the tolerances, was not taken)"
+                                  : "");
   } else {
     res.termination = RegistrationTermination::MaxIterations;
     res.message = fmt::format("{} iterations without meeting the step tolerances", res.iterations);

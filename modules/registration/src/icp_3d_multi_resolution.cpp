@@ -68,8 +68,11 @@ Icp3dMultiResolutionResult icp_3d_multi_resolution(std::span<const Eigen::Vector
     r.message = fmt::format("level {} (voxel {:g} m, gate {:g} m): {}", level, voxel,
                             io.max_correspondence_distance, r.message);
     out.levels.push_back(r);
+    // A level that stopped short of its tolerances (the iteration cap, a
+    // stalled step) still hands the finer level a better start.
     const bool go_on = r.termination == RegistrationTermination::Converged ||
-                       r.termination == RegistrationTermination::MaxIterations;
+                       r.termination == RegistrationTermination::MaxIterations ||
+                       r.termination == RegistrationTermination::Stalled;
     if (!go_on) break;
     T = Eigen::Isometry3d(r.matrix);
     // Re-orthonormalize: the next level checks rigidity to 1e-6.

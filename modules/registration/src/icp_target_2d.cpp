@@ -62,7 +62,7 @@ std::vector<Eigen::Vector2d> estimate_normals_2d(std::span<const Eigen::Vector2d
                                                  int num_threads) {
   ROVE_CHECK_GE(k, std::size_t{2});
   std::vector<Eigen::Vector2d> normals(points.size(), Eigen::Vector2d::Zero());
-  parallel_reduce(points.size(), num_threads, 0,
+  parallel_reduce(points.size(), resolve_thread_count(num_threads, "num_threads"), 0,
                           [&](std::size_t b, std::size_t e, int&) {
     std::vector<Neighbor<float>> nn(k);
     for (std::size_t i = b; i < e; ++i) {

@@ -11,6 +11,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <tuple>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
@@ -18,6 +20,7 @@
 #include <fmt/format.h>
 
 #include "rove/core/check.h"
+#include "rove/core/interrupt.h"
 #include "rove/poses/angle.h"
 #include "rove/registration/degeneracy.h"
 #include "rove/core/parallel.h"
@@ -340,12 +343,16 @@ void NdtOptions::check() const {
                      transformation_rotation_epsilon >= 0 && transformation_rotation_epsilon <= 1,
                  "transformation_rotation_epsilon must be in [0, 1], got {}",
                  transformation_rotation_epsilon);
+  ROVE_CHECK_MSG(std::isfinite(translation_tolerance) && translation_tolerance >= 0,
+                 "translation_tolerance must be finite and >= 0, got {}", translation_tolerance);
+  ROVE_CHECK_MSG(std::isfinite(rotation_tolerance) && rotation_tolerance >= 0,
+                 "rotation_tolerance must be finite and >= 0, got {}", rotation_tolerance);
   ROVE_CHECK_GE(max_iterations, 1);
   ROVE_CHECK_MSG(outlier_ratio > 0 && outlier_ratio < 1, "outlier_ratio must be in (0, 1), got {}",
                  outlier_ratio);
   ROVE_CHECK_MSG(degeneracy_threshold >= 0 && degeneracy_threshold < 1,
                  "degeneracy_threshold must be in [0, 1), got {}", degeneracy_threshold);
-  ROVE_CHECK_GE(num_threads, 1);
+  (void)resolve_thread_count(num_threads, "NdtOptions::num_threads");
 }
 
 // ------------------------------------------------------- the motion models
@@ -587,6 +594,11 @@ struct NdtRun {
   int iterations = 0;
   bool converged = false;
   bool diverged = false;
+  bool stalled = false;  // the line search found no step that raised the score
+  // The Newton step at the result (before the step_size cap), as the
+  // convergence test measures it: translation m, rotation rad; NaN when the
+  // score Hessian there is not negative definite (no maximum nearby).
+  double newton_translation = 0, newton_rotation = 0;
 };
 
 /// Newton iterations with the Moré–Thuente line search (PCL 1.13's
@@ -597,29 +609,64 @@ NdtRun<M> run_ndt(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float
                   double (*step_translation_sq)(const typename M::Params&),
                   double (*step_cos_angle)(const typename M::Params&)) {
   using Params = typename M::Params;
+  using MatP = Eigen::Matrix<double, M::P, M::P>;
+  const bool pcl_rule = o.convergence == NdtConvergence::Pcl;
   NdtRun<M> run;
-  ThreadTeam team(o.num_threads);
+  ThreadTeam team(resolve_thread_count(o.num_threads, "NdtOptions::num_threads"));
   Eval<M> ev = evaluate<M>(grid, source, p, true, gc, team);
+  // The Newton step's size at the current estimate; NaN when −H is not
+  // positive definite (the score has no maximum the step would reach).
+  const auto measure_newton = [&](const Params& newton) {
+    const Eigen::SelfAdjointEigenSolver<MatP> eig(-0.5 * (ev.H + ev.H.transpose()),
+                                                  Eigen::EigenvaluesOnly);
+    const bool maximum = eig.info() == Eigen::Success && eig.eigenvalues()(0) > 0;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    run.newton_translation = maximum ? std::sqrt(step_translation_sq(newton)) : nan;
+    run.newton_rotation =
+        maximum ? std::acos(std::clamp(step_cos_angle(newton), -1.0, 1.0)) : nan;
+  };
   while (true) {
-    Eigen::JacobiSVD<Eigen::Matrix<double, M::P, M::P>> svd(ev.H, Eigen::ComputeFullU |
-                                                                      Eigen::ComputeFullV);
+    throw_if_interrupted();
+    Eigen::JacobiSVD<MatP> svd(ev.H, Eigen::ComputeFullU | Eigen::ComputeFullV);
     Params delta = svd.solve(-ev.g);
     double delta_norm = delta.norm();
-    if (delta_norm == 0 || !std::isfinite(delta_norm)) {
-      run.converged = delta_norm == 0;
-      run.diverged = !std::isfinite(delta_norm);
+    if (!std::isfinite(delta_norm)) {
+      run.diverged = true;
+      break;
+    }
+    if (!pcl_rule) {
+      // Converged: the score has a maximum here (−H positive definite) and
+      // the full Newton step to it is within the tolerances. A step the
+      // step_size cap or the line search shortened never counts.
+      measure_newton(delta);
+      if (run.newton_translation <= o.translation_tolerance &&
+          run.newton_rotation <= o.rotation_tolerance) {
+        run.converged = true;
+        break;
+      }
+      if (run.iterations >= o.max_iterations) break;
+    }
+    if (delta_norm == 0) {
+      run.converged = pcl_rule;  // PCL: a zero step is convergence
+      run.stalled = !pcl_rule;   // here: zero gradient but not a maximum
       break;
     }
     delta /= delta_norm;
-    // Line search on φ(α) = −score(p + α·δ).
-    const double step_max = o.step_size, step_min = o.transformation_epsilon / 2;
+    // Line search on φ(α) = −score(p + α·δ). PCL's shortest step is
+    // transformation_epsilon / 2; the default rule lets the search shorten
+    // a step to a thousandth of the tolerances.
+    const double step_max = o.step_size;
+    const double step_min =
+        pcl_rule ? o.transformation_epsilon / 2
+                 : std::max(1e-3 * std::min(o.translation_tolerance, o.rotation_tolerance), 1e-12);
     const double mu = 1e-4, nu = 0.9;
     const double phi_0 = -ev.score;
     double d_phi_0 = -ev.g.dot(delta);
     double a_t = 0;
     if (d_phi_0 >= 0) {
       if (d_phi_0 == 0) {
-        run.converged = true;
+        run.converged = pcl_rule;
+        run.stalled = !pcl_rule;
         break;
       }
       d_phi_0 = -d_phi_0;  // not a descent direction: search the other way
@@ -656,6 +703,13 @@ NdtRun<M> run_ndt(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float
       ++steps;
     }
     const Params step = delta * a_t;
+    if (!pcl_rule && std::isfinite(phi_t) && phi_t >= phi_0) {
+      // No step along the direction raised the score: keep the estimate
+      // (PCL would take the step anyway).
+      ev = evaluate<M>(grid, source, p, true, gc, team);
+      run.stalled = true;
+      break;
+    }
     p += step;
     if (steps) ev = evaluate<M>(grid, source, p, true, gc, team);
     ++run.iterations;
@@ -663,6 +717,7 @@ NdtRun<M> run_ndt(const NdtGrid<M::D>& grid, std::span<const Eigen::Matrix<float
       run.diverged = true;
       break;
     }
+    if (!pcl_rule) continue;  // tested at the top, on the new estimate
     const double tsq = step_translation_sq(step);
     const double cos_angle = step_cos_angle(step);
     const double te = o.transformation_epsilon, re = o.transformation_rotation_epsilon;
@@ -726,6 +781,39 @@ double conditioning_of(const NdtGrid<D>& grid, std::span<const Pt> transformed) 
   }
 }
 
+/// Termination and message of a run that was neither diverged nor without
+/// cells nor degenerate.
+template <class M>
+std::pair<RegistrationTermination, std::string> ndt_outcome(const NdtRun<M>& run,
+                                                            const NdtOptions& o,
+                                                            double probability) {
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  const std::string newton =
+      std::isnan(run.newton_translation)
+          ? std::string("the score has no maximum there (its Hessian is not negative definite)")
+          : fmt::format("the Newton step there is {:.3g} m, {:.3g}° (tolerances {:g} m, {:g}°)",
+                        run.newton_translation, run.newton_rotation * kDeg, o.translation_tolerance,
+                        o.rotation_tolerance * kDeg);
+  if (run.stalled)
+    return {RegistrationTermination::Stalled,
+            fmt::format("no step along the Newton direction raised the score after {} "
+                        "iteration(s); the estimate is the last one that did{}; {}",
+                        run.iterations, run.iterations == 0 ? " (the initial guess)" : "", newton)};
+  if (run.converged && o.convergence == NdtConvergence::Pcl)
+    return {RegistrationTermination::Converged,
+            fmt::format("PCL's rule met in {} iteration(s) (a step's translation² <= {:g} m²; not "
+                        "a test of the optimum), probability {:.4g}",
+                        run.iterations, o.transformation_epsilon, probability)};
+  if (run.converged)
+    return {RegistrationTermination::Converged,
+            fmt::format("converged in {} iteration(s): {}, probability {:.4g}", run.iterations,
+                        newton, probability)};
+  return {RegistrationTermination::MaxIterations,
+          o.convergence == NdtConvergence::Pcl
+              ? fmt::format("{} iterations without a step below the epsilons", run.iterations)
+              : fmt::format("stopped at the iteration cap ({}); {}", run.iterations, newton)};
+}
+
 }  // namespace
 
 Ndt3dResult ndt_3d(const NdtGrid3D& target, std::span<const Eigen::Vector3f> source,
@@ -757,6 +845,8 @@ Ndt3dResult ndt_3d(const NdtGrid3D& target, std::span<const Eigen::Vector3f> sou
   res.transformation_probability = run.last.score / static_cast<double>(source.size());
   res.goodness = static_cast<double>(run.last.with_cell) / static_cast<double>(finite);
   res.fitness = run.last.with_cell ? run.last.nearest_sq / static_cast<double>(run.last.with_cell) : 0.0;
+  res.final_cost = -run.last.score;
+  res.correspondences = run.last.with_cell;
   const Pose3 mean(m.R, m.t, 1e-6);
   if (run.diverged) {
     res.T_target_source = Pose3Gaussian(mean);
@@ -773,6 +863,7 @@ Ndt3dResult ndt_3d(const NdtGrid3D& target, std::span<const Eigen::Vector3f> sou
   // Covariance: (−H)⁻¹ over PCL's (t, roll, pitch, yaw), mapped to rove's
   // (t, yaw, pitch, roll) through the left rotation rates of both.
   const Eigen::Matrix<double, 6, 6> info = -run.last.H;
+  res.information = info;
   const Eigen::Matrix<double, 6, 6> C_pcl = covariance_from_information<6>(info, 1.0, 1e-12);
   Eigen::Matrix3d E_pcl;  // ω = E_pcl · (roll, pitch, yaw)˙ for R = Rx·Ry·Rz
   {
@@ -801,13 +892,8 @@ Ndt3dResult ndt_3d(const NdtGrid3D& target, std::span<const Eigen::Vector3f> sou
     res.message = fmt::format(
         "the matched cells leave a direction unconstrained (conditioning {:.3g} < {:.3g})",
         res.conditioning, o.degeneracy_threshold);
-  } else if (run.converged) {
-    res.termination = RegistrationTermination::Converged;
-    res.message = fmt::format("converged in {} iterations, probability {:.4g}", run.iterations,
-                              res.transformation_probability);
   } else {
-    res.termination = RegistrationTermination::MaxIterations;
-    res.message = fmt::format("{} iterations without a step below the epsilons", run.iterations);
+    std::tie(res.termination, res.message) = ndt_outcome(run, o, res.transformation_probability);
   }
   return res;
 }
@@ -833,6 +919,8 @@ Ndt2dResult ndt_2d(const NdtGrid2D& target, std::span<const Eigen::Vector2f> sou
   res.transformation_probability = run.last.score / static_cast<double>(source.size());
   res.goodness = static_cast<double>(run.last.with_cell) / static_cast<double>(finite);
   res.fitness = run.last.with_cell ? run.last.nearest_sq / static_cast<double>(run.last.with_cell) : 0.0;
+  res.final_cost = -run.last.score;
+  res.correspondences = run.last.with_cell;
   const Pose2 mean(run.p(0), run.p(1), wrap_to_pi(run.p(2)));
   if (run.diverged || !run.p.allFinite()) {
     res.termination = RegistrationTermination::Diverged;
@@ -845,7 +933,8 @@ Ndt2dResult ndt_2d(const NdtGrid2D& target, std::span<const Eigen::Vector2f> sou
     res.message = "no source point lies within one resolution of a target cell";
     return res;
   }
-  const Eigen::Matrix3d C = covariance_from_information<3>(-run.last.H, 1.0, 1e-12);
+  res.information = -run.last.H;
+  const Eigen::Matrix3d C = covariance_from_information<3>(res.information, 1.0, 1e-12);
   res.T_target_source = Pose2Gaussian(detail::kUnchecked, mean, C);
   bool degenerate = false;
   if (o.degeneracy_threshold > 0) {
@@ -860,13 +949,8 @@ Ndt2dResult ndt_2d(const NdtGrid2D& target, std::span<const Eigen::Vector2f> sou
     res.message = fmt::format(
         "the matched cells leave a direction unconstrained (conditioning {:.3g} < {:.3g})",
         res.conditioning, o.degeneracy_threshold);
-  } else if (run.converged) {
-    res.termination = RegistrationTermination::Converged;
-    res.message = fmt::format("converged in {} iterations, probability {:.4g}", run.iterations,
-                              res.transformation_probability);
   } else {
-    res.termination = RegistrationTermination::MaxIterations;
-    res.message = fmt::format("{} iterations without a step below the epsilons", run.iterations);
+    std::tie(res.termination, res.message) = ndt_outcome(run, o, res.transformation_probability);
   }
   return res;
 }

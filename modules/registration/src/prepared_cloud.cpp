@@ -42,7 +42,7 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
   ROVE_CHECK_GE(options.neighbors, std::size_t{3});
   ROVE_CHECK_MSG(options.gicp_epsilon > 0 && options.gicp_epsilon <= 1,
                  "gicp_epsilon must be in (0, 1], got {}", options.gicp_epsilon);
-  ROVE_CHECK_GE(options.num_threads, 1);
+  const int threads = resolve_thread_count(options.num_threads, "PrepareOptions::num_threads");
   ROVE_CHECK_LT(points_.size(), std::size_t{std::numeric_limits<std::uint32_t>::max()});
   std::erase_if(points_, [](const Eigen::Vector3f& p) { return !p.allFinite(); });
   tree_ = KdTree3f(points_);
@@ -68,7 +68,7 @@ PreparedCloud3D::PreparedCloud3D(std::vector<Eigen::Vector3f> points, const Prep
     neighborhoods_.assign(points_.size() * k, Neighbor<float>{});
   }
   constexpr float kInf = std::numeric_limits<float>::infinity();
-  parallel_reduce(order.size(), options.num_threads, Nothing{},
+  parallel_reduce(order.size(), threads, Nothing{},
                           [&](std::size_t begin, std::size_t end, Nothing&) {
     float reach = kInf;  // previous query's farthest neighbour, meters
     Eigen::Vector3f prev = Eigen::Vector3f::Zero();

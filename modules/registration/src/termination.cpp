@@ -10,6 +10,7 @@ std::string_view to_string(RegistrationTermination t) {
     case RegistrationTermination::TooFewCorrespondences: return "TooFewCorrespondences";
     case RegistrationTermination::InvalidInput: return "InvalidInput";
     case RegistrationTermination::Diverged: return "Diverged";
+    case RegistrationTermination::Stalled: return "Stalled";
   }
   return "Unknown";
 }

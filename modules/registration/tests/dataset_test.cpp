@@ -152,6 +152,7 @@ TEST(Dataset, PclNdtTutorialPairMatchesPcl) {
   const PointCloud target = read_pcd(kBundled + "room_scan1.pcd");
   const NdtGrid3D grid(std::span<const Eigen::Vector3f>(target.points()));
   NdtOptions o;
+  o.convergence = NdtConvergence::Pcl;  // PCL's rule, for parity
   o.transformation_epsilon = 0.01;
   o.step_size = 0.1;
   o.max_iterations = 35;
@@ -164,6 +165,23 @@ TEST(Dataset, PclNdtTutorialPairMatchesPcl) {
   const auto [et, er] = test::pose_error(r.matrix, pcl_T);
   EXPECT_LT(et, 0.005) << "translation difference to PCL, m\n" << r.matrix << "\nPCL\n" << pcl_T;
   EXPECT_LT(er, 0.05 * M_PI / 180) << "rotation difference to PCL, rad";
+
+  // Issue 18 item 2: PCL's rule "converges" after its first step of at most
+  // 0.1. The default rule runs on until the Newton step is within its
+  // tolerances (or says why not), and moves farther than one capped step.
+  NdtOptions d;
+  d.num_threads = 2;
+  const auto h = ndt_3d(grid, source, guess, d);
+  EXPECT_GT(h.iterations, 1) << h.message;
+  if (h.ok()) {
+    EXPECT_LE(h.iterations, d.max_iterations);
+    EXPECT_NE(h.message.find("Newton step"), std::string::npos) << h.message;
+  } else {
+    EXPECT_TRUE(h.termination == RegistrationTermination::MaxIterations ||
+                h.termination == RegistrationTermination::Stalled)
+        << h.message;
+  }
+  EXPECT_GT(h.transformation_probability, r.transformation_probability) << h.message;
 }
 
 }  // namespace

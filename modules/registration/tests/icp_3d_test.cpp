@@ -55,6 +55,62 @@ TEST(Icp3d, EveryMethodRecoversAKnownTransform) {
   }
 }
 
+// Issue 18 item 1: the LM damping started at 1e-6 and topped out near 1e3,
+// nothing next to a GICP Hessian, so when the undamped step raised the cost
+// every "damped" step did too and the run returned the initial guess as
+// Converged. Stand-in for libpointmatcher's car pair: a floor and a wall, the
+// source tilted 40° (the full step over-rotates) or 30° with a 0.75 m gate.
+std::vector<Eigen::Vector3f> floor_and_wall(double step) {
+  std::vector<Eigen::Vector3f> p;
+  test::add_patch(p, {-5, -5, 0}, {10, 0, 0}, {0, 10, 0}, step);
+  test::add_patch(p, {-5, 3, 0}, {10, 0, 0}, {0, 0, 3}, step);
+  return p;
+}
+
+TEST(Icp3d, RegressionGicpConvergedAtTheInitialGuessWhenEveryStepRaisedTheCost) {
+  struct Case {
+    double degrees, gate, step;
+    bool reaches_truth;
+  };
+  for (const Case c : {Case{40, 2.0, 0.1, true}, Case{30, 0.75, 0.25, false}}) {
+    SCOPED_TRACE(c.degrees);
+    const auto scene = floor_and_wall(c.step);
+    const Eigen::Isometry3d truth = make_pose(0, 0, 0, c.degrees * M_PI / 180, 0, 0);
+    PrepareOptions po;
+    po.covariances = true;
+    po.neighbors = 10;
+    const PreparedCloud3D target(scene, po);
+    const PreparedCloud3D source(test::as_seen_from(scene, truth, 0.0, 1), po);
+    Icp3dOptions o;
+    o.max_correspondence_distance = c.gate;
+    o.degeneracy_threshold = 0;
+    const auto r = icp_3d(target, source, Eigen::Isometry3d::Identity(), o);
+    const bool unmoved = r.matrix.isIdentity(0);
+    // Never "Converged" on the initial guess when a step was needed.
+    EXPECT_FALSE(r.ok() && unmoved) << r.message;
+    if (c.reaches_truth) {
+      ASSERT_TRUE(r.ok()) << r.message;
+      const auto [et, er] = pose_error(r.matrix, truth.matrix());
+      EXPECT_LT(et, 1e-4);
+      EXPECT_LT(er, 1e-4);
+    } else if (unmoved) {
+      EXPECT_EQ(r.termination, RegistrationTermination::Stalled) << r.message;
+      EXPECT_NE(r.message.find("initial guess"), std::string::npos) << r.message;
+    }
+  }
+}
+
+// The other side of the rule: a run that starts at the optimum, where no step
+// lowers the cost and none is needed, is Converged.
+TEST(Icp3d, StartingAtTheOptimumConverges) {
+  PrepareOptions po;
+  po.covariances = true;
+  const PreparedCloud3D cloud(test::room_3d(0.25), po);
+  const auto r = icp_3d(cloud, cloud, Eigen::Isometry3d::Identity(), {});
+  EXPECT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
+  EXPECT_TRUE(r.matrix.isApprox(Eigen::Matrix4d::Identity(), 1e-9));
+}
+
 TEST(Icp3d, SinglePlaneIsDegenerate) {
   const auto scene = test::plane_3d(0.2);
   const Eigen::Isometry3d truth = make_pose(0.1, 0.1, 0.05, 0.01, 0.01, 0.02);
@@ -310,6 +366,21 @@ TEST(Icp3d, BadInputs) {
   Eigen::Isometry3d bad = Eigen::Isometry3d::Identity();
   bad(0, 0) = NAN;
   EXPECT_THROW(icp_3d(target, target, bad), InvalidArgument);
+}
+
+// Issue 18 item 9: a thread count is capped (rove::kMaxThreads), never started
+// as asked; 0 means all hardware threads.
+TEST(Icp3d, RegressionThreadCountIsCapped) {
+  Icp3dOptions o;
+  o.num_threads = 100000;
+  EXPECT_THROW(o.check(), InvalidArgument);
+  o.num_threads = -1;
+  EXPECT_THROW(o.check(), InvalidArgument);
+  o.num_threads = 0;
+  EXPECT_NO_THROW(o.check());
+  PrepareOptions p;
+  p.num_threads = 100000;
+  EXPECT_THROW(PreparedCloud3D(test::room_3d(0.5), p), InvalidArgument);
 }
 
 TEST(Icp3dMultiResolution, RecoversAKnownTransformCoarseToFine) {

@@ -42,6 +42,67 @@ TEST(Ndt3d, RecoversAKnownTransform) {
   EXPECT_GT(r.T_target_source.covariance().determinant(), 0.0);
 }
 
+// Issue 18 item 2: with PCL's defaults (steps of at most 0.1, epsilon
+// 0.1 m²) the first step met the rule, so a run 0.3 m off ended "Converged"
+// after one iteration, still ~0.2 m off.
+TEST(Ndt3d, RegressionConvergedAfterOneIterationWithoutReachingTheOptimum) {
+  const auto scene = test::room_3d(0.15);
+  const NdtGrid3D grid{std::span<const Eigen::Vector3f>(scene)};
+  const Eigen::Isometry3d truth = make_pose(0.3, -0.2, 0.05, 0.01, -0.02, 0.05);
+  const auto src = test::as_seen_from(test::room_3d(0.3), truth, 0.0, 1);
+  const auto r = ndt_3d(grid, src, Eigen::Isometry3d::Identity(), NdtOptions{});
+  const auto [et, er] = pose_error(r.matrix, truth.matrix());
+  EXPECT_GT(r.iterations, 1) << r.message;
+  if (r.ok()) {
+    EXPECT_LT(et, 0.02) << r.message;
+    EXPECT_LT(er, deg_to_rad(0.2)) << r.message;
+  } else {
+    EXPECT_NE(r.termination, RegistrationTermination::Converged);
+  }
+  // The same fields as ICP's results.
+  EXPECT_EQ(r.correspondences, src.size());
+  EXPECT_LT(r.final_cost, 0.0);
+  EXPECT_GT(r.information.determinant(), 0.0);
+  // PCL's rule, kept behind an option, still stops after one step.
+  NdtOptions pcl;
+  pcl.convergence = NdtConvergence::Pcl;
+  const auto p = ndt_3d(grid, src, Eigen::Isometry3d::Identity(), pcl);
+  EXPECT_EQ(p.iterations, 1);
+  EXPECT_TRUE(p.ok());
+  EXPECT_NE(p.message.find("PCL"), std::string::npos) << p.message;
+}
+
+// Starting at the optimum: the Newton step is already within the
+// tolerances, Converged without a step.
+TEST(Ndt2d, StartingAtTheOptimumConvergesWithoutAStep) {
+  std::vector<Eigen::Vector2f> pts;
+  for (int i = 0; i <= 80; ++i) {
+    const float u = 0.1f * static_cast<float>(i);
+    pts.emplace_back(u, 0.0f);
+    pts.emplace_back(u, 6.0f);
+    pts.emplace_back(0.0f, 0.075f * static_cast<float>(i));
+    pts.emplace_back(8.0f, 0.075f * static_cast<float>(i));
+    pts.emplace_back(3.0f + 0.02f * static_cast<float>(i), 2.0f + 0.01f * static_cast<float>(i));
+  }
+  const NdtGrid2D grid{std::span<const Eigen::Vector2f>(pts)};
+  const auto r = ndt_2d(grid, pts, Pose2(0, 0, 0), NdtOptions{});
+  EXPECT_TRUE(r.ok()) << r.message;
+  EXPECT_LE(r.iterations, 1) << r.message;
+  EXPECT_LT(std::abs(r.T_target_source.mean().x()), 1e-3);
+}
+
+TEST(Ndt3d, BadOptionsAreRefused) {
+  NdtOptions o;
+  o.num_threads = 100000;
+  EXPECT_THROW(o.check(), InvalidArgument);
+  o = {};
+  o.translation_tolerance = NAN;
+  EXPECT_THROW(o.check(), InvalidArgument);
+  o = {};
+  o.rotation_tolerance = -1;
+  EXPECT_THROW(o.check(), InvalidArgument);
+}
+
 TEST(Ndt3d, GridCellsMatchTheirDefinition) {
   // One cell holding a known set: mean, (n−1) covariance with the eigenvalue
   // floor, and the minimum point count.

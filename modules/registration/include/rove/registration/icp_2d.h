@@ -181,7 +181,8 @@ struct Icp2dOptions {
   /// Default 5.
   unsigned normal_neighbors = 5;
   /// (num_threads; rove) threads for pairing and accumulation; results are
-  /// identical for any value. ≥ 1. Default 1.
+  /// identical for any value. 1 to kMaxThreads (rove/core/parallel.h), 0
+  /// for all hardware threads. Default 1.
   int num_threads = 1;
 
   /// Throws InvalidArgument naming the first field out of range.
@@ -223,6 +224,8 @@ struct Icp2dResult {
   RegistrationTermination termination = RegistrationTermination::InvalidInput;
   /// One line explaining the termination.
   std::string message;
+  /// True only when termination is Converged (succeeded()).
+  bool ok() const noexcept { return succeeded(termination); }
 };
 
 /// Registers `source` (meters, source frame; non-finite points are skipped)

@@ -6,8 +6,9 @@
 /// Each iteration pairs every source point with its nearest target point
 /// within max_correspondence_distance, linearizes the cost around the
 /// current pose with a right perturbation T·exp(δ), δ = (ρ, ω) ∈ se(3), and
-/// takes a Levenberg–Marquardt step on the fixed pairs (the damping is
-/// raised until the cost of those pairs decreases). Costs, with
+/// takes a Levenberg–Marquardt step on the fixed pairs: the damping, scaled
+/// to the Hessian and updated by Nielsen's rule, is raised until the cost of
+/// those pairs decreases. Costs, with
 /// qᵢ = T·sᵢ − tᵢ:
 ///  - point-to-point: Σ ρ(‖qᵢ‖²) (Besl & McKay 1992);
 ///  - point-to-plane: Σ ρ((nᵢᵀqᵢ)²), nᵢ the target normal (Chen & Medioni
@@ -16,7 +17,11 @@
 ///    the combined covariance re-evaluated at each linearization.
 /// The run converges when a step changes the rotation by less than
 /// rotation_epsilon and the translation by less than translation_epsilon
-/// (small_gicp's criterion).
+/// (small_gicp's criterion). When no damped step lowers the cost, the run
+/// converges only if the undamped step is itself within those tolerances;
+/// otherwise it ends Stalled at the last estimate that lowered the cost
+/// (GICP's Hessian holds the combined covariances fixed, so its step can
+/// miss the cost that re-evaluates them).
 ///
 /// The covariance of the result is H⁻¹ (GICP: the information is already in
 /// m⁻²) or σ²·H⁻¹ (point-to-point, point-to-plane; σ² = point_variance) from
@@ -60,8 +65,13 @@ struct Icp3dOptions {
   double translation_epsilon = 1e-3;
   /// Robust kernel on the (whitened) residual. Default none.
   RobustKernel kernel;
-  /// Initial LM damping, absolute (added to H's diagonal), ≥ 0. Default 1e-6.
+  /// Initial LM damping relative to the largest diagonal entry of the first
+  /// Hessian (μ₀ = τ·max diag H, Madsen et al. 2004), ≥ 0. Default 1e-6.
   double lm_initial_lambda = 1e-6;
+  /// Damped steps tried per linearization before the run ends Stalled (or
+  /// Converged, see above), ≥ 1. Default 30 (Nielsen's doubling reaches
+  /// 2^465 × the first damping, a gradient step of negligible length).
+  int lm_max_tries = 30;
   /// σ² of a point coordinate for the covariance of point-to-point and
   /// point-to-plane results, m², > 0. Default 0.01².
   double point_variance = 0.01 * 0.01;
@@ -74,7 +84,8 @@ struct Icp3dOptions {
   /// Neighbours to fit a target normal at a matched point when the target
   /// has neither normals nor covariances (degeneracy check), ≥ 3. Default 10.
   std::size_t normal_neighbors = 10;
-  /// Threads; the result is identical for any value. ≥ 1. Default 1.
+  /// Threads; the result is identical for any value. 1 to kMaxThreads
+  /// (rove/core/parallel.h), 0 for all hardware threads. Default 1.
   int num_threads = 1;
 
   /// Throws InvalidArgument naming the first field out of range.
@@ -107,6 +118,8 @@ struct Icp3dResult {
   RegistrationTermination termination = RegistrationTermination::InvalidInput;
   /// One line explaining the termination.
   std::string message;
+  /// True only when termination is Converged (succeeded()).
+  bool ok() const noexcept { return succeeded(termination); }
 };
 
 /// Registers `source` onto `target` from `initial_T_target_source`.

@@ -60,8 +60,8 @@ struct Icp3dMultiResolutionOptions {
 /// Result of icp_3d_multi_resolution.
 struct Icp3dMultiResolutionResult {
   /// The last level run: its estimate, covariance, termination and message
-  /// are the answer. A level that ends other than Converged or
-  /// MaxIterations stops the schedule and is reported here.
+  /// are the answer. A level that ends other than Converged, MaxIterations
+  /// or Stalled stops the schedule and is reported here.
   Icp3dResult result;
   /// Every level run, coarse first (result == levels.back()).
   std::vector<Icp3dResult> levels;

@@ -92,7 +92,8 @@ class IcpTarget2D {
 /// Unit normals of `points` by PCA over the k nearest neighbours in `tree`
 /// (built over the same points): the eigenvector of the smallest eigenvalue
 /// of the neighbourhood covariance, (0, 0) when the neighbourhood has no
-/// extent. Precondition: k ≥ 2.
+/// extent. Preconditions: k ≥ 2; num_threads in [0, kMaxThreads] (0: all
+/// hardware threads).
 std::vector<Eigen::Vector2d> estimate_normals_2d(std::span<const Eigen::Vector2d> points,
                                                  const KdTree2f& tree, std::size_t k,
                                                  int num_threads = 1);

@@ -17,10 +17,15 @@
 ///  - each Newton direction is searched with the Moré–Thuente line search
 ///    ("Line search algorithms with guaranteed sufficient decrease", ACM
 ///    TOMS 1994), step length in [transformation_epsilon/2, step_size];
-///  - the run stops when the step's translation² is ≤ transformation_epsilon
-///    (and, if set, the cosine of its rotation ≥ transformation_rotation_
-///    epsilon), or after max_iterations (then MaxIterations, where PCL would
-///    still say "converged").
+///  - the run converges (NdtConvergence::NewtonStep, the default) when the
+///    score has a maximum at the estimate (its Hessian is negative definite)
+///    and the full Newton step to it is within translation_tolerance and
+///    rotation_tolerance; it ends MaxIterations at the cap and Stalled when no
+///    step along the Newton direction raises the score. PCL's own rule
+///    (NdtConvergence::Pcl: a taken step's translation² ≤
+///    transformation_epsilon) is kept for parity: with PCL's defaults (0.1 m²,
+///    steps of at most 0.1) it holds after the first step wherever that ends,
+///    so it says nothing about the optimum.
 /// 3D parameters are PCL's (x, y, z, roll, pitch, yaw) with R = Rx·Ry·Rz;
 /// 2D parameters are (x, y, phi).
 ///
@@ -134,14 +139,37 @@ using NdtGrid2D = NdtGrid<2>;
 extern template class NdtGrid<2>;
 extern template class NdtGrid<3>;
 
+/// What ends an NDT run as Converged.
+enum class NdtConvergence {
+  /// The score has a maximum at the estimate and the full Newton step to it
+  /// (before the step_size cap) is within translation_tolerance and
+  /// rotation_tolerance.
+  NewtonStep,
+  /// PCL 1.13's rule, for parity with it: a taken step's translation² ≤
+  /// transformation_epsilon (and, when set, cos(its rotation) ≥
+  /// transformation_rotation_epsilon); a zero step also counts. Not a test
+  /// of the optimum: with PCL's defaults it holds after the first step.
+  Pcl,
+};
+
 /// Options of ndt_3d / ndt_2d.
 struct NdtOptions {
   /// Largest Moré–Thuente step (in parameter units), > 0. Default 0.1 (PCL).
   double step_size = 0.1;
-  /// Converged when a step's translation² ≤ this (m²), ≥ 0. Default 0.1
-  /// (PCL's NDT default; its tutorial uses 0.01).
+  /// The convergence test. Default NewtonStep.
+  NdtConvergence convergence = NdtConvergence::NewtonStep;
+  /// NewtonStep: the largest translation of the Newton step at a converged
+  /// estimate, m, ≥ 0. Default 1e-3.
+  double translation_tolerance = 1e-3;
+  /// NewtonStep: the largest rotation of the Newton step at a converged
+  /// estimate, rad, ≥ 0. Default 1e-3 (0.057°).
+  double rotation_tolerance = 1e-3;
+  /// Pcl: converged when a step's translation² ≤ this (m²); also the
+  /// line search's shortest step × 2, as in PCL. ≥ 0. Default 0.1 (PCL's NDT
+  /// default; its tutorial uses 0.01).
   double transformation_epsilon = 0.1;
-  /// If > 0, convergence also needs cos(step rotation) ≥ this. Default 0.
+  /// Pcl: if > 0, convergence also needs cos(step rotation) ≥ this. In
+  /// [0, 1]. Default 0.
   double transformation_rotation_epsilon = 0.0;
   /// Iteration cap, ≥ 1. Default 35 (PCL).
   int max_iterations = 35;
@@ -151,7 +179,8 @@ struct NdtOptions {
   /// information of the matched cells (their normals at the source points);
   /// 0 disables. In [0, 1). Default 1e-3.
   double degeneracy_threshold = 1e-3;
-  /// Threads; results are identical for any value. ≥ 1. Default 1.
+  /// Threads; results are identical for any value. 1 to kMaxThreads
+  /// (rove/core/parallel.h), 0 for all hardware threads. Default 1.
   int num_threads = 1;
 
   /// Throws InvalidArgument naming the first field out of range.
@@ -171,7 +200,16 @@ struct Ndt3dResult {
   double goodness = 0.0;
   /// Mean squared distance from each such point to its nearest cell mean, m².
   double fitness = 0.0;
-  /// Newton iterations.
+  /// The cost the Newton iterations minimize at the result: the negated NDT
+  /// score (Σ d₁·exp(...), Magnusson eq. 6.9; ≤ 0, lower is better).
+  double final_cost = 0.0;
+  /// Source points with at least one cell within `resolution` at the result.
+  std::size_t correspondences = 0;
+  /// −H, the negated score Hessian at the result, over PCL's parameters
+  /// (x, y, z, roll, pitch, yaw), R = Rx·Ry·Rz; positive definite at a
+  /// maximum.
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  /// Newton iterations (steps taken).
   int iterations = 0;
   /// λmin/λmax of the point-to-plane information of the matched cells.
   double conditioning = 0.0;
@@ -179,6 +217,8 @@ struct Ndt3dResult {
   RegistrationTermination termination = RegistrationTermination::InvalidInput;
   /// One line explaining the termination.
   std::string message;
+  /// True only when termination is Converged (succeeded()).
+  bool ok() const noexcept { return succeeded(termination); }
 };
 
 /// Result of ndt_2d (as Ndt3dResult, in 2D).
@@ -187,10 +227,15 @@ struct Ndt2dResult {
   double transformation_probability = 0.0;
   double goodness = 0.0;
   double fitness = 0.0;
+  double final_cost = 0.0;
+  std::size_t correspondences = 0;
+  /// −H over (x, y, phi).
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
   int iterations = 0;
   double conditioning = 0.0;
   RegistrationTermination termination = RegistrationTermination::InvalidInput;
   std::string message;
+  bool ok() const noexcept { return succeeded(termination); }
 };
 
 /// 3D NDT of `source` (meters; non-finite points skipped) onto `target`

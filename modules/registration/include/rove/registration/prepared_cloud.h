@@ -40,7 +40,9 @@ struct PrepareOptions {
   /// Smallest regularized eigenvalue ε of the GICP covariances, in (0, 1].
   /// Default 1e-3.
   double gicp_epsilon = 1e-3;
-  /// Threads for the neighbour searches; results do not depend on it. ≥ 1.
+  /// Threads for the neighbour searches; results do not depend on it. 1 to
+  /// kMaxThreads (rove/core/parallel.h), 0 for all hardware threads; other
+  /// values are an InvalidArgument. Default 1.
   int num_threads = 1;
   /// Keep the neighbourhoods the normals or covariances come from
   /// (neighborhoods(), 8·k bytes per point), which the pairing of a target

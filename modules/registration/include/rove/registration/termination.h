@@ -20,6 +20,10 @@ enum class RegistrationTermination {
   InvalidInput,           ///< empty clouds or no finite point; the estimate is the initial guess
   Diverged,               ///< the cost or the estimate became non-finite, or the update grew
                           ///< without bound; the estimate is the last finite one
+  Stalled,                ///< no step lowered the cost although the solver's step was still
+                          ///< above the tolerances (a search direction that does not descend,
+                          ///< a flat or noisy cost); the estimate is the last one that lowered
+                          ///< it (the initial guess if none)
 };
 
 /// Name of a termination reason ("Converged", ...).
