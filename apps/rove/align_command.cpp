@@ -6,8 +6,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fstream>
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -15,27 +16,40 @@
 #include <Eigen/Geometry>
 
 #include "commands.h"
+#include "report.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
+#include "rove/core/json.h"
+#include "rove/core/parallel.h"
+#include "rove/core/timer.h"
 #include "rove/maps/pcd.h"
 #include "rove/maps/ply.h"
 #include "rove/maps/voxel_grid.h"
 #include "rove/registration/icp_3d.h"
 #include "rove/registration/icp_3d_multi_resolution.h"
 #include "rove/registration/ndt.h"
+#include "rove/registration/voxel_size.h"
 
 namespace rove::cli {
 
 namespace {
 
+/// `--voxel auto`: the coarse leaf keeps at most this many occupied voxels
+/// of the target (suggest_voxel_size); the ICP family adds a finer level at
+/// kFineRatio × the coarse leaf.
+constexpr std::size_t kAutoVoxels = 7000;
+constexpr double kFineRatio = 0.4;
+
 struct AlignOptions {
   std::string source, target, method = "gicp", init, init_file, output;
-  std::string voxel = "0";
+  std::string voxel = "auto";
   double max_distance = 1.0;
   double distance_factor = 3.0;
   std::size_t neighbors = 10;
   double resolution = 1.0;
   int max_iterations = 0;
   int threads = 1;
+  bool json = false;
 };
 
 std::string extension(const std::string& path) {
@@ -45,22 +59,18 @@ std::string extension(const std::string& path) {
   return e;
 }
 
-PointCloud read_cloud(const std::string& path) {
+PointCloud read_cloud(const std::string& path, const char* what) {
+  check_regular_input(path, what);
   const std::string e = extension(path);
   if (e == "pcd") return read_pcd(path);
   if (e == "ply") return read_ply(path);
-  throw IoError(path, "unknown point cloud format (expected .pcd or .ply)");
+  throw IoError(path, fmt::format("{}: unknown point cloud format (expected .pcd or .ply)", what));
 }
 
-void write_cloud(const std::string& path, const PointCloud& cloud) {
-  const std::string e = extension(path);
-  if (e == "pcd") return write_pcd(path, cloud);
-  if (e == "ply") return write_ply(path, cloud);
-  throw IoError(path, "unknown point cloud format (expected .pcd or .ply)");
-}
-
-/// "0.25,0.1" (meters, coarse to fine) as voxel sizes, each finite and ≥ 0.
-std::vector<double> parse_voxels(const std::string& text) {
+/// "auto", or "0.25,0.1" (meters, coarse to fine) as voxel sizes, each finite
+/// and ≥ 0. Auto: nullopt.
+std::optional<std::vector<double>> parse_voxels(const std::string& text) {
+  if (text == "auto") return std::nullopt;
   std::vector<double> v;
   std::stringstream ss(text);
   std::string item;
@@ -75,7 +85,7 @@ std::vector<double> parse_voxels(const std::string& text) {
     while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
     if (used == 0 || used != item.size() || !std::isfinite(x) || x < 0)
       throw ParseError({"--voxel", std::nullopt, std::nullopt, "voxel"},
-                       fmt::format("'{}' is not a finite number >= 0", item));
+                       fmt::format("'{}' is not 'auto' or a finite number >= 0", printable(item)));
     v.push_back(x);
   }
   if (v.empty())
@@ -99,7 +109,7 @@ Eigen::Isometry3d parse_init(const std::string& text) {
     while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
     if (used == 0 || used != item.size() || !std::isfinite(x))
       throw ParseError({"--init", std::nullopt, std::nullopt, "init"},
-                       fmt::format("'{}' is not a finite number", item));
+                       fmt::format("'{}' is not a finite number", printable(item)));
     v.push_back(x);
   }
   if (v.size() != 6)
@@ -116,8 +126,7 @@ Eigen::Isometry3d parse_init(const std::string& text) {
 
 /// A 4×4 matrix of 16 numbers (rows), e.g. small_gicp's T_target_source.txt.
 Eigen::Isometry3d read_init_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw IoError(path, "cannot open");
+  std::istringstream in(read_input_file(path, 1 << 20, "--init-file"));
   Eigen::Matrix4d M;
   for (int i = 0; i < 16; ++i) {
     if (!(in >> M(i / 4, i % 4)) || !std::isfinite(M(i / 4, i % 4)))
@@ -134,13 +143,57 @@ Eigen::Isometry3d read_init_file(const std::string& path) {
   return T;
 }
 
+/// The issue code of a termination that is not Converged.
+std::string issue_code(RegistrationTermination t) {
+  switch (t) {
+    case RegistrationTermination::Converged: return "converged";
+    case RegistrationTermination::MaxIterations: return "max-iterations";
+    case RegistrationTermination::Degenerate: return "degenerate";
+    case RegistrationTermination::TooFewCorrespondences: return "too-few-correspondences";
+    case RegistrationTermination::InvalidInput: return "invalid-input";
+    case RegistrationTermination::Diverged: return "diverged";
+    case RegistrationTermination::Stalled: return "stalled";
+  }
+  return "not-converged";
+}
+
+std::string join(const std::vector<double>& v) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i) s += fmt::format("{}{:g}", i ? "," : "", v[i]);
+  return s;
+}
+
 void run(const AlignOptions& o) {
-  const PointCloud source_full = read_cloud(o.source);
-  const PointCloud target_full = read_cloud(o.target);
-  const std::vector<double> voxels = parse_voxels(o.voxel);
+  // Everything the command line names is checked before any work.
+  const int threads = resolve_thread_count(o.threads, "--threads");
+  std::optional<std::vector<double>> voxels = parse_voxels(o.voxel);
   Eigen::Isometry3d init = Eigen::Isometry3d::Identity();
   if (!o.init.empty()) init = parse_init(o.init);
+  std::vector<std::filesystem::path> inputs{o.source, o.target};
+  if (!o.init_file.empty()) inputs.emplace_back(o.init_file);
+  if (!o.output.empty()) {
+    const std::string e = extension(o.output);
+    if (e != "pcd" && e != "ply")
+      throw IoError(o.output, "-o: unknown point cloud format (expected .pcd or .ply)");
+    check_outputs_distinct(inputs, {o.output});
+  }
+  if (o.method == "ndt" && voxels && voxels->size() != 1)
+    throw ParseError({"--voxel", std::nullopt, std::nullopt, "voxel"},
+                     "ndt takes one voxel size, not a coarse-to-fine list");
   if (!o.init_file.empty()) init = read_init_file(o.init_file);
+  const PointCloud source_full = read_cloud(o.source, "source cloud");
+  const PointCloud target_full = read_cloud(o.target, "target cloud");
+
+  const Stopwatch clock;
+  const bool auto_voxel = !voxels;
+  if (auto_voxel) {
+    const double v = suggest_voxel_size(target_full.points(), kAutoVoxels);
+    if (v == 0 || o.method == "ndt") {
+      voxels = std::vector<double>{v};
+    } else {
+      voxels = std::vector<double>{v, std::round(v * kFineRatio * 1e4) / 1e4};
+    }
+  }
 
   Eigen::Matrix4d T;
   double fitness = 0, goodness = 0;
@@ -148,12 +201,13 @@ void run(const AlignOptions& o) {
   std::size_t source_points = 0, target_points = 0;
   RegistrationTermination termination;
   std::string message;
+  std::vector<std::string> level_messages;
+  double gate = 0;
+  int iteration_cap = 0;
   if (o.method == "ndt") {
-    if (voxels.size() != 1)
-      throw ParseError({"--voxel", std::nullopt, std::nullopt, "voxel"},
-                       "ndt takes one voxel size, not a coarse-to-fine list");
+    const double leaf = voxels->front();
     const auto down = [&](const PointCloud& c) {
-      return voxels[0] > 0 ? voxel_downsample(c, static_cast<float>(voxels[0])) : c;
+      return leaf > 0 ? voxel_downsample(c, static_cast<float>(leaf)) : c;
     };
     const PointCloud source = down(source_full);
     const PointCloud target = down(target_full);
@@ -163,8 +217,9 @@ void run(const AlignOptions& o) {
     go.resolution = o.resolution;
     const NdtGrid3D grid(std::span<const Eigen::Vector3f>(target.points()), go);
     NdtOptions no;
-    no.num_threads = o.threads;
+    no.num_threads = threads;
     if (o.max_iterations > 0) no.max_iterations = o.max_iterations;
+    iteration_cap = no.max_iterations;
     const auto r = ndt_3d(grid, source.points(), init, no);
     T = r.matrix;
     fitness = r.fitness;
@@ -176,14 +231,15 @@ void run(const AlignOptions& o) {
     // One voxel size: one level, gate --max-distance. Several: coarse to
     // fine, gate --distance-factor × voxel at each level.
     Icp3dMultiResolutionOptions mo;
-    mo.voxel_sizes = voxels;
+    mo.voxel_sizes = *voxels;
     mo.neighbors = o.neighbors;
-    if (voxels.size() == 1) {
-      if (voxels[0] > 0) {
-        mo.distance_factor = o.max_distance / voxels[0];
+    if (voxels->size() == 1) {
+      if (voxels->front() > 0) {
+        mo.distance_factor = o.max_distance / voxels->front();
       } else {
         mo.full_resolution_distance = o.max_distance;
       }
+      gate = o.max_distance;
     } else {
       mo.distance_factor = o.distance_factor;
     }
@@ -194,10 +250,11 @@ void run(const AlignOptions& o) {
     } else {
       mo.icp.method = Icp3dMethod::Gicp;
     }
-    mo.icp.num_threads = o.threads;
+    mo.icp.num_threads = threads;
     if (o.max_iterations > 0) mo.icp.max_iterations = o.max_iterations;
+    iteration_cap = mo.icp.max_iterations;
     const auto rr = icp_3d_multi_resolution(target_full.points(), source_full.points(), init, mo);
-    for (const auto& level : rr.levels) fmt::print("{}\n", level.message);
+    for (const auto& level : rr.levels) level_messages.push_back(level.message);
     const auto& r = rr.result;
     T = r.matrix;
     fitness = r.fitness;
@@ -208,13 +265,11 @@ void run(const AlignOptions& o) {
     source_points = rr.source_points.back();
     target_points = rr.target_points.back();
   }
-  fmt::print("T_target_source:\n");
-  for (int i = 0; i < 4; ++i)
-    fmt::print("{:12.6f} {:12.6f} {:12.6f} {:12.6f}\n", T(i, 0), T(i, 1), T(i, 2), T(i, 3));
-  fmt::print("method: {}\npoints: source {} target {}\nfitness: {:.6g} m^2\ngoodness: {:.4f}\n"
-             "iterations: {}\ntermination: {} ({})\n",
-             o.method, source_points, target_points, fitness, goodness, iterations,
-             to_string(termination), message);
+  const double seconds = clock.elapsed();
+
+  std::vector<Issue> issues;
+  if (!succeeded(termination)) issues.push_back({issue_code(termination), message});
+
   if (!o.output.empty()) {
     PointCloud aligned = source_full;
     const Eigen::Matrix3f R = T.topLeftCorner<3, 3>().cast<float>();
@@ -222,10 +277,76 @@ void run(const AlignOptions& o) {
     for (auto& p : aligned.points_mut()) p = R * p + t;
     if (aligned.has_normals())
       for (auto& n : aligned.normals_mut()) n = R * n;
-    write_cloud(o.output, aligned);
-    fmt::print("aligned source written to {}\n", o.output);
+    const bool pcd = extension(o.output) == "pcd";
+    write_file_atomically(o.output, [&](const std::filesystem::path& tmp) {
+      if (pcd) {
+        write_pcd(tmp.string(), aligned);
+      } else {
+        write_ply(tmp.string(), aligned);
+      }
+    });
   }
-  if (!succeeded(termination)) throw CLI::RuntimeError(3);
+
+  const std::string voxel_text =
+      voxels->size() == 1 && voxels->front() == 0 ? "none" : join(*voxels);
+  if (o.json) {
+    JsonWriter j;
+    j.begin_object();
+    j.key("command").value("align");
+    j.key("source").value(o.source).key("target").value(o.target);
+    j.key("method").value(o.method);
+    j.key("voxel").begin_array();
+    for (double v : *voxels) j.value(v);
+    j.end_array();
+    j.key("voxel_auto").value(auto_voxel);
+    if (o.method == "ndt") {
+      j.key("resolution").value(o.resolution);
+    } else if (gate > 0) {
+      j.key("max_distance").value(gate);
+    } else {
+      j.key("distance_factor").value(o.distance_factor);
+    }
+    j.key("threads").value(threads);
+    j.key("source_points").value(static_cast<std::uint64_t>(source_points));
+    j.key("target_points").value(static_cast<std::uint64_t>(target_points));
+    j.key("T_target_source").begin_array();
+    for (int r = 0; r < 4; ++r) {
+      j.begin_array();
+      for (int c = 0; c < 4; ++c) j.value(T(r, c));
+      j.end_array();
+    }
+    j.end_array();
+    j.key("fitness_m2").value(fitness).key("goodness").value(goodness);
+    j.key("iterations").value(iterations).key("max_iterations").value(iteration_cap);
+    j.key("termination").value(to_string(termination));
+    j.key("converged").value(succeeded(termination));
+    j.key("message").value(message);
+    j.key("levels").value(level_messages);
+    j.key("seconds").value(seconds);
+    if (o.output.empty()) {
+      j.key("output").null();
+    } else {
+      j.key("output").value(o.output);
+    }
+    write_issues(j, issues);
+    j.end_object();
+    fmt::print("{}\n", j.str());
+  } else {
+    for (const auto& m : level_messages) fmt::print("{}\n", m);
+    fmt::print("T_target_source:\n");
+    for (int i = 0; i < 4; ++i)
+      fmt::print("{:12.6f} {:12.6f} {:12.6f} {:12.6f}\n", T(i, 0), T(i, 1), T(i, 2), T(i, 3));
+    fmt::print("method: {}\nvoxel: {} m{}\npoints: source {} target {}\nfitness: {:.6g} m^2\n"
+               "goodness: {:.4f}\niterations: {} (cap {}{})\ntime: {:.3f} s\n"
+               "termination: {} ({})\n",
+               o.method, voxel_text,
+               auto_voxel ? " (auto, from the target's density; --voxel 0 disables)" : "",
+               source_points, target_points, fitness, goodness, iterations, iteration_cap,
+               o.method == "ndt" ? "" : " per level", seconds, to_string(termination), message);
+    if (!o.output.empty()) fmt::print("aligned source written to {}\n", printable(o.output));
+    fmt::print("issues: {}\n", issues.empty() ? "none" : std::to_string(issues.size()));
+  }
+  finish(issues);
 }
 
 }  // namespace
@@ -234,20 +355,24 @@ void add_align_command(CLI::App& app) {
   auto o = std::make_shared<AlignOptions>();
   auto* cmd = app.add_subcommand(
       "align", "Register SOURCE onto TARGET (PCD or PLY) and print T_target_source; exit "
-               "status 3 when the result is not Converged");
-  cmd->add_option("source", o->source, "Cloud to move (.pcd or .ply)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("target", o->target, "Reference cloud (.pcd or .ply)")->required()->check(CLI::ExistingFile);
+               "status 3 when the result is not Converged (the issue is listed)");
+  cmd->add_option("source", o->source, "Cloud to move (.pcd or .ply)")->required();
+  cmd->add_option("target", o->target, "Reference cloud (.pcd or .ply)")->required();
   cmd->add_option("--method", o->method, "icp | point-to-plane | gicp | ndt")
       ->check(CLI::IsMember({"icp", "point-to-plane", "gicp", "ndt"}))
       ->capture_default_str();
   auto* init = cmd->add_option("--init", o->init,
-                               "Initial guess x,y,z,roll,pitch,yaw (m, rad; R = Rz·Ry·Rx)");
+                               "Initial guess x,y,z,roll,pitch,yaw (m, rad; R = Rz·Ry·Rx); "
+                               "default identity");
   cmd->add_option("--init-file", o->init_file, "Initial guess as a 4x4 matrix file")
-      ->check(CLI::ExistingFile)
       ->excludes(init);
   cmd->add_option("--voxel", o->voxel,
-                  "Voxel-grid leaf for both clouds, m (0: none); a list coarse to fine, e.g. "
-                  "0.25,0.1, registers level by level (ICP family)")
+                  fmt::format("Voxel-grid leaf for both clouds, m: 'auto' picks the finest round "
+                              "leaf at which the target fills at most {} voxels (none for a "
+                              "smaller cloud) and, for the ICP family, adds a level at {} x it; "
+                              "0: no down-sampling; a list coarse to fine, e.g. 0.25,0.1, "
+                              "registers level by level (ICP family)",
+                              kAutoVoxels, kFineRatio))
       ->capture_default_str();
   cmd->add_option("--distance-factor", o->distance_factor,
                   "Coarse to fine: pairing gate = factor x the level's voxel")
@@ -257,26 +382,27 @@ void add_align_command(CLI::App& app) {
                   "Neighbours (point included) for normals and GICP covariances")
       ->check(CLI::Range(3, 1000))
       ->capture_default_str();
-  cmd->add_option("--max-distance", o->max_distance, "ICP/GICP pairing gate with one voxel size, m")
+  cmd->add_option("--max-distance", o->max_distance,
+                  "ICP/GICP pairing gate with one voxel size, m")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--resolution", o->resolution, "NDT cell size, m")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->add_option("--max-iterations", o->max_iterations, "Iteration cap (0: method default)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--threads", o->threads, "Threads (results do not depend on it)")
-      ->check(CLI::PositiveNumber)
+  cmd->add_option("--max-iterations", o->max_iterations,
+                  "Iteration cap (0: the method's, 64 per level for the ICP family, 35 for ndt)")
+      ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
-  cmd->add_option("-o,--output", o->output, "Write the aligned source cloud (.pcd or .ply)");
-  cmd->callback([o] {
-    try {
-      run(*o);
-    } catch (const Error& e) {
-      fmt::print(stderr, "rove align: {}\n", e.message());
-      throw CLI::RuntimeError(1);
-    }
-  });
+  cmd->add_option("--threads", o->threads,
+                  fmt::format("Threads, 1 to {}, 0 for all hardware threads (results do not "
+                              "depend on it)",
+                              kMaxThreads))
+      ->capture_default_str();
+  cmd->add_option("-o,--output", o->output,
+                  "Write the aligned source cloud (.pcd or .ply; written atomically, never over "
+                  "an input); default none");
+  cmd->add_flag("--json", o->json, "Print the summary as one JSON object (with an issues array)");
+  cmd->callback([o] { run(*o); });
 }
 
 }  // namespace rove::cli
