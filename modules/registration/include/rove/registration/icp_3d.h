@@ -18,8 +18,9 @@
 /// The run converges when a step changes the rotation by less than
 /// rotation_epsilon and the translation by less than translation_epsilon
 /// (small_gicp's criterion). When no damped step lowers the cost, the run
-/// converges only if the undamped step is itself within those tolerances;
-/// otherwise it ends Stalled at the last estimate that lowered the cost
+/// converges only if the undamped step is itself within those tolerances or
+/// the decrease it predicts is below 1e-4 of the cost (after Ceres' function
+/// tolerance: stationary within the model's error); otherwise it ends Stalled at the last estimate that lowered the cost
 /// (GICP's Hessian holds the combined covariances fixed, so its step can
 /// miss the cost that re-evaluates them).
 ///
