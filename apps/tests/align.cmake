@@ -67,7 +67,8 @@ add_test(NAME cli.align_defaults_small_gicp COMMAND ${CMAKE_COMMAND}
   -DEXIT=0
   "-DREGEX=T_target_source:\n[^\n]* 0\\.4[89][0-9]*\n[^\n]* 0\\.1[12][0-9]*\n[^\n]*-0\\.0[23][0-9]*\n.*voxel: 0\\.25,0\\.1 m \\(auto.*termination: Converged.*issues: none"
   -P ${rove_align_dir}/expect_exit.cmake)
-set_tests_properties(cli.align_defaults_small_gicp PROPERTIES LABELS "cli;datasets")
+set_tests_properties(cli.align_defaults_small_gicp PROPERTIES LABELS cli)
+rove_dataset_tests(cli.align_defaults_small_gicp)
 
 # Every default is visible in --help.
 add_test(NAME cli.align_help_shows_defaults COMMAND ${CMAKE_COMMAND}
