@@ -4,13 +4,12 @@
 
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "ini_text.h"
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
 
 namespace rove {
 
@@ -39,7 +38,13 @@ class IniBuilder {
           malformed("unterminated section header (missing ']')");
           continue;
         }
-        current = &ini.section_for_write(ini_trim(t.substr(1, close - 1)));
+        const std::string_view name = ini_trim(t.substr(1, close - 1));
+        current = &ini.section_for_write(name);
+        if (current->header_line != 0) {
+          ini.duplicates_.push_back({true, std::string(name), {}, l.line, current->header_line});
+        } else {
+          current->header_line = l.line;
+        }
         const std::string_view after = ini_trim(t.substr(close + 1));
         if (!after.empty() && !detail::ini_is_comment(after))
           malformed(fmt::format("unexpected text after section header: '{}'", after));
@@ -68,12 +73,7 @@ IniFile IniFile::parse(std::string_view text, std::string source_name, const Ini
 }
 
 IniFile IniFile::load(const std::string& path, const IniOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path, "cannot open file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw IoError(path, "read failed");
-  return parse(ss.str(), path, options);
+  return parse(read_input_file(path, kMaxTextInputBytes, "config file"), path, options);
 }
 
 IniFile::Section& IniFile::section_for_write(std::string_view section) {
@@ -89,6 +89,7 @@ void IniFile::put(Section& s, std::string_view key, std::string value, std::stri
   auto lower = ini_lower(key);
   if (auto it = s.index.find(lower); it != s.index.end()) {
     Entry& e = s.entries[it->second];
+    if (line != 0) duplicates_.push_back({false, s.name, std::string(key), line, e.line});
     e.value = std::move(value);
     e.raw = std::move(raw);
     e.line = line;

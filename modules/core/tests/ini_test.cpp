@@ -460,3 +460,46 @@ TEST(Ini, ToStringRejectsValuesItCannotWriteBack) {
 }
 
 }  // namespace
+
+namespace {
+
+// Regression: a repeated key or section was silently last-wins; both are
+// now recorded with their lines so that `rove config check` can warn.
+TEST(Ini, DuplicateKeysAndSectionsAreRecorded) {
+  const auto ini = IniFile::parse(
+      "[ICP]\nmaxIterations = 80\nthresholdDist = 0.75\n[other]\nx = 1\n[icp]\nMAXITERATIONS = 5\n"
+      "maxIterations = 7\n",
+      "dup.ini");
+  EXPECT_EQ(ini.get<int>("ICP", "maxIterations"), 7);  // MRPT's rule: the last value
+  const auto& d = ini.duplicates();
+  ASSERT_EQ(d.size(), 3u);
+  EXPECT_TRUE(d[0].is_section);
+  EXPECT_EQ(d[0].section, "icp");
+  EXPECT_EQ(d[0].line, 6u);
+  EXPECT_EQ(d[0].first_line, 1u);
+  EXPECT_FALSE(d[1].is_section);
+  EXPECT_EQ(d[1].section, "ICP");
+  EXPECT_EQ(d[1].key, "MAXITERATIONS");
+  EXPECT_EQ(d[1].line, 7u);
+  EXPECT_EQ(d[1].first_line, 2u);
+  EXPECT_EQ(d[2].key, "maxIterations");
+  EXPECT_EQ(d[2].line, 8u);
+  EXPECT_EQ(d[2].first_line, 7u);
+  EXPECT_TRUE(IniFile::parse("[a]\nx = 1\n[b]\nx = 2\n").duplicates().empty());
+}
+
+// Regression: reading /dev/zero or /dev/urandom as a config grew to
+// gigabytes; devices, FIFOs and directories are refused by name.
+TEST(Ini, DevZeroAsConfigIsRefused) {
+  for (const char* dev : {"/dev/zero", "/dev/urandom"}) {
+    try {
+      (void)IniFile::load(dev);
+      ADD_FAILURE() << dev;
+    } catch (const rove::IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(dev), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW((void)IniFile::load("/tmp"), rove::IoError);
+}
+
+}  // namespace

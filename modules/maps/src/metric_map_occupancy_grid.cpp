@@ -1,11 +1,13 @@
 #include "rove/maps/metric_map_occupancy_grid.h"
 
 #include <cmath>
+#include <utility>
 #include <fstream>
 
 #include <fmt/format.h>
 
 #include "rove/core/error.h"
+#include "rove/core/memory_budget.h"
 #include "rove/obs/range_scan_2d.h"
 
 namespace rove {
@@ -19,7 +21,24 @@ OccupancyGridCreationOptions OccupancyGridCreationOptions::load(const ConfigSect
   o.resolution = s.get<float>("resolution", o.resolution);
   if (!(o.max_x > o.min_x)) s.fail("max_x", fmt::format("max_x ({}) must exceed min_x ({})", o.max_x, o.min_x));
   if (!(o.max_y > o.min_y)) s.fail("max_y", fmt::format("max_y ({}) must exceed min_y ({})", o.max_y, o.min_y));
-  if (!(o.resolution > 0)) s.fail("resolution", fmt::format("must be > 0, got {}", o.resolution));
+  if (!(o.resolution > 0) || !std::isfinite(o.resolution)) {
+    s.fail("resolution", fmt::format("must be finite and > 0, got {}", o.resolution));
+  }
+  for (const auto& [key, v] : {std::pair{"min_x", o.min_x}, std::pair{"max_x", o.max_x},
+                               std::pair{"min_y", o.min_y}, std::pair{"max_y", o.max_y}}) {
+    if (!std::isfinite(v)) s.fail(key, fmt::format("must be finite, got {}", v));
+  }
+  o.origin = fmt::format("[{}]", s.name());
+  // The grid's size as OccupancyGrid::set_size computes it (limits snapped
+  // to whole cells), checked before anything is allocated.
+  const auto snap = [&](float v) { return o.resolution * std::round(v / o.resolution); };
+  const double nx = std::round((snap(o.max_x) - snap(o.min_x)) / o.resolution);
+  const double ny = std::round((snap(o.max_y) - snap(o.min_y)) / o.resolution);
+  const std::string what =
+      fmt::format("[{}] resolution={} over x [{}, {}] y [{}, {}] m gives a {} \u00d7 {} grid",
+                  s.name(), o.resolution, o.min_x, o.max_x, o.min_y, o.max_y, nx, ny);
+  if (!(nx * ny <= 2147483648.0)) s.fail("resolution", what + ", above rove's limit of 2^31 cells");
+  check_memory_budget(checked_bytes(static_cast<std::uint64_t>(nx * ny), 1), what);
   return o;
 }
 
@@ -51,7 +70,14 @@ double OccupancyGridMetricMap::log_likelihood(const Observation& observation,
 bool OccupancyGridMetricMap::insert(const Observation& observation, const Pose3& T_map_robot) {
   const auto* scan = dynamic_cast<const RangeScan2D*>(&observation);
   if (scan == nullptr) return false;
-  return insert_scan(grid_, *scan, T_map_robot, insert_options).inserted();
+  try {
+    return insert_scan(grid_, *scan, T_map_robot, insert_options).inserted();
+  } catch (const ResourceError& e) {
+    if (creation_.origin.empty()) throw;
+    // The grid grows with what it sees; name the key that set its cell size.
+    throw ResourceError(fmt::format("{} resolution={}: growing {}", creation_.origin,
+                                    creation_.resolution, e.message()));
+  }
 }
 
 void OccupancyGridMetricMap::clear() {

@@ -5,12 +5,29 @@
 #include <cstring>
 #include <new>
 
+#include <fmt/format.h>
+
 #include "rove/core/check.h"
+#include "rove/core/error.h"
+#include "rove/core/memory_budget.h"
 
 namespace rove {
 namespace {
 
 constexpr double kMaxCells = 2147483648.0;  // 2^31
+
+// Refuses a grid of nx × ny cells that rove cannot index (2^31 cells) or
+// that exceeds the memory budget, before it is allocated.
+template <GridCell Cell>
+void check_grid_size(float nx, float ny, float resolution) {
+  const std::string what = fmt::format("an occupancy grid of {} \u00d7 {} cells of {} m", nx, ny, resolution);
+  if (!(static_cast<double>(nx) * ny <= kMaxCells)) {
+    throw ResourceError(fmt::format("{} is above rove's limit of 2^31 cells", what));
+  }
+  check_memory_budget(
+      checked_bytes(static_cast<std::uint64_t>(nx) * static_cast<std::uint64_t>(ny), sizeof(Cell)),
+      what);
+}
 
 void check_probability(float p) {
   ROVE_CHECK_MSG(p >= 0.0f && p <= 1.0f, "probability {} is outside [0, 1]", p);
@@ -46,8 +63,7 @@ void OccupancyGridT<Cell>::set_size(float x_min, float x_max, float y_min, float
   const float ymax = resolution * std::round(y_max / resolution);
   const float nx = std::round((xmax - xmin) / resolution);
   const float ny = std::round((ymax - ymin) / resolution);
-  ROVE_CHECK_MSG(nx >= 0.0f && ny >= 0.0f && static_cast<double>(nx) * ny <= kMaxCells,
-                 "grid of {} x {} cells is too large", nx, ny);
+  check_grid_size<Cell>(nx, ny, resolution);
   x_min_ = xmin;
   x_max_ = xmax;
   y_min_ = ymin;
@@ -99,8 +115,7 @@ void OccupancyGridT<Cell>::resize(float new_x_min, float new_x_max, float new_y_
   const float extra_y = std::round((y_min_ - new_y_min) / res);
   const float nx = std::round((new_x_max - new_x_min) / res);
   const float ny = std::round((new_y_max - new_y_min) / res);
-  ROVE_CHECK_MSG(static_cast<double>(nx) * ny <= kMaxCells, "grid of {} x {} cells is too large",
-                 nx, ny);
+  check_grid_size<Cell>(nx, ny, res);
   const auto off_x = static_cast<std::uint32_t>(extra_x);
   const auto off_y = static_cast<std::uint32_t>(extra_y);
   const auto new_size_x = static_cast<std::uint32_t>(nx);

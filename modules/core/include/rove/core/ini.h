@@ -86,6 +86,16 @@ struct IniSkippedLine {
   std::string reason;    ///< why it is not a section or key line
 };
 
+/// A section header or a key that appears more than once (MRPT merges the
+/// section and keeps the key's last value; so does IniFile).
+struct IniDuplicate {
+  bool is_section = false;  ///< true: a repeated `[section]` header; false: a repeated key
+  std::string section;      ///< the section (its spelling at this line)
+  std::string key;          ///< the key (empty for a section)
+  std::size_t line = 0;     ///< 1-based line of this repetition
+  std::size_t first_line = 0;  ///< 1-based line of the previous appearance
+};
+
 /// One name of an enumeration and its value, for IniFile::get_enum.
 template <typename E>
 struct IniEnumName {
@@ -100,7 +110,9 @@ class IniFile {
   /// An empty document (no sections).
   IniFile() = default;
 
-  /// Reads and parses the file at `path`. Throws IoError if it cannot be
+  /// Reads and parses the file at `path`: a regular file (a directory, a
+  /// device or a FIFO is refused) of at most kMaxTextInputBytes
+  /// (rove/core/files.h). Throws IoError naming the path if it cannot be
   /// read, ParseError (path, line) if it is malformed.
   static IniFile load(const std::string& path, const IniOptions& options = {});
   /// Parses `text`; `source_name` names it in errors (e.g. a path).
@@ -181,6 +193,9 @@ class IniFile {
   /// Lines a non-strict parse skipped (always empty after a strict parse).
   const std::vector<IniSkippedLine>& skipped_lines() const noexcept { return skipped_; }
 
+  /// Repeated section headers and keys, in file order (set() records none).
+  const std::vector<IniDuplicate>& duplicates() const noexcept { return duplicates_; }
+
  private:
   struct Entry {
     std::string key;
@@ -204,6 +219,7 @@ class IniFile {
     std::string name;
     std::vector<Entry> entries;
     std::unordered_map<std::string, std::size_t> index;  // lower-case key -> entry
+    std::size_t header_line = 0;  // line of its first `[section]` header (0: none yet)
   };
   friend class IniBuilder;
 
@@ -222,6 +238,7 @@ class IniFile {
   std::vector<Section> sections_;
   std::unordered_map<std::string, std::size_t> section_index_;  // lower-case name -> section
   std::vector<IniSkippedLine> skipped_;
+  std::vector<IniDuplicate> duplicates_;
 };
 
 #define ROVE_DETAIL_INI_EXTERN(T)                                                              \

@@ -70,6 +70,10 @@ struct VoronoiDiagram {
   }
 };
 
+/// Memory voronoi_diagram() takes for a grid of size_x × size_y cells (its
+/// result and work space: 8 bytes per cell), in bytes.
+std::uint64_t voronoi_diagram_bytes(std::uint32_t size_x, std::uint32_t size_y);
+
 /// The Voronoi diagram of the free cells of `grid` (MRPT's
 /// buildVoronoiDiagram, computed from the exact feature transform instead
 /// of MRPT's growing circles): two 4-neighbouring free cells whose nearest
@@ -77,7 +81,9 @@ struct VoronoiDiagram {
 /// clearances apart straddle the bisector of those obstacles, and the one
 /// nearer to it (the smaller excess distance to the other obstacle; a tie
 /// goes to the left or lower cell) is on the diagram.
-/// Preconditions (InvalidArgument): options in range. O(cells).
+/// Preconditions (InvalidArgument): options in range. O(cells) time,
+/// voronoi_diagram_bytes() of memory; throws ResourceError when that exceeds
+/// the memory budget (rove/core/memory_budget.h).
 template <GridCell Cell>
 VoronoiDiagram voronoi_diagram(const OccupancyGridT<Cell>& grid, const VoronoiOptions& options = {});
 

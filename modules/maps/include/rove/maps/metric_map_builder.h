@@ -18,8 +18,12 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
+#include <vector>
 
+#include "rove/core/ini.h"
 #include "rove/maps/metric_map.h"
+#include "rove/maps/multi_metric_map.h"
 
 namespace rove {
 
@@ -52,9 +56,27 @@ struct MapBuildResult {
 /// ".simplemap.gz"), else a rawlog.
 MapInputKind detect_map_input(const std::string& path);
 
+/// The maps a `rove map build` configuration declares.
+struct MapBuildConfig {
+  std::string section;  ///< the section holding the `<kind>_count` keys
+  MultiMetricMap maps;  ///< the maps, empty and ready to fill
+  /// Keys present that have no effect in rove.
+  std::vector<IgnoredConfigKey> ignored_keys;
+};
+
+/// Reads the multi-metric map of an MRPT application file, as MRPT's
+/// observations2map: from `section`, or when it is empty from the first
+/// section holding a `<kind>_count` key of a known map kind. Strict as
+/// MultiMetricMap::from_config (unknown keys of the map sections, malformed
+/// or out-of-range values, sizes beyond the memory budget). Throws
+/// ConfigError naming the file and section when no section declares a map,
+/// `section` does not exist, or every `_count` is 0.
+MapBuildConfig load_map_build_config(const IniFile& ini, std::string_view section = {});
+
 /// Reads `path` (rawlog or simplemap, plain or gzip) and inserts every
 /// observation into `map` (see the file comment). Throws IoError /
-/// ParseError (file, offset, class) on unreadable input.
+/// ParseError (file, offset, class) on unreadable input, rove::Interrupted
+/// (rove/core/interrupt.h) when Ctrl-C was pressed (checked per entry).
 MapBuildResult build_map(const std::string& path, MetricMap& map,
                          const MapBuildOptions& options = {});
 

@@ -32,7 +32,12 @@ struct OccupancyGridCreationOptions {
   float min_y = -10.0f;     ///< meters
   float max_y = 10.0f;      ///< meters
   float resolution = 0.10f; ///< cell side, meters
-  /// Loads the keys present; ConfigError on max <= min or resolution <= 0.
+  /// Where these came from, for messages ("[prefix_creationOpts]"); empty
+  /// when set in code.
+  std::string origin;
+  /// Loads the keys present; ConfigError on max <= min or resolution <= 0
+  /// or not finite, and on a grid beyond 2^31 cells; ResourceError naming
+  /// the section and `resolution` when the grid exceeds the memory budget.
   static OccupancyGridCreationOptions load(const ConfigSection& section);
 };
 
@@ -58,7 +63,8 @@ class OccupancyGridMetricMap final : public MetricMap {
   std::string_view kind() const noexcept override { return "occupancyGrid"; }
   /// Inserts a RangeScan2D by ray casting (insert_scan); false for other
   /// kinds and for scans insert_scan declines (not horizontal, off the map
-  /// plane).
+  /// plane). A grid that would grow beyond the memory budget throws
+  /// ResourceError naming the creation section and its resolution.
   bool insert(const Observation& observation, const Pose3& T_map_robot) override;
   using MetricMap::insert;
   /// True for RangeScan2D.
