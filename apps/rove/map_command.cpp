@@ -2,13 +2,20 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <iostream>
 #include <limits>
+#include <map>
+#include <memory>
 #include <string>
+#include <system_error>
+#include <vector>
 
 #include "commands.h"
+#include "report.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
 #include "rove/core/ini.h"
+#include "rove/core/json.h"
+#include "rove/core/memory_budget.h"
 #include "rove/maps/grid_binary.h"
 #include "rove/maps/grid_clearance.h"
 #include "rove/maps/grid_entropy.h"
@@ -22,53 +29,11 @@ namespace rove::cli {
 
 namespace {
 
-struct MapBuildArgs {
-  std::string config;
-  std::string input;
-  std::string out_dir;
-  std::string section;
-  bool json = false;
-};
+namespace fs = std::filesystem;
 
-std::string json_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '"': o += "\\\""; break;
-      case '\\': o += "\\\\"; break;
-      case '\n': o += "\\n"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          o += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-        } else {
-          o += c;
-        }
-    }
-  }
-  return o;
-}
-
-/// The multi-metric map section of an MRPT application file: the one given,
-/// else the first section holding a `<map kind>_count` key.
-std::string find_map_section(const IniFile& ini) {
-  for (const auto& sec : ini.sections()) {
-    for (const auto& key : ini.keys(sec)) {
-      if (key.size() > 6 && key.ends_with("_count")) {
-        const std::string stem = key.substr(0, key.size() - 6);
-        for (const auto& k : supported_metric_map_kinds()) {
-          if (k.size() == stem.size() &&
-              std::equal(k.begin(), k.end(), stem.begin(), [](char a, char b) {
-                return std::tolower(static_cast<unsigned char>(a)) ==
-                       std::tolower(static_cast<unsigned char>(b));
-              })) {
-            return sec;
-          }
-        }
-      }
-    }
-  }
-  throw ConfigError(ini.source(), "", "", "no section declares a metric map (no `<kind>_count` key); "
-                    "name it with --section");
+bool ends_with_ci(std::string s, std::string_view suffix) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s.ends_with(suffix);
 }
 
 // One line on a grid's entropy and information (grid_entropy.h).
@@ -78,75 +43,133 @@ std::string entropy_line(const OccupancyGrid& grid) {
                      e.entropy, e.information, e.mapped_cells, e.mapped_area, e.mean_information);
 }
 
-int run_map_build(const MapBuildArgs& a) {
+void write_entropy(JsonWriter& j, const OccupancyGrid& grid) {
+  const GridEntropy h = grid_entropy(grid);
+  j.key("entropy").value(h.entropy).key("information").value(h.information);
+  j.key("mapped_cells").value(h.mapped_cells).key("mapped_area_m2").value(h.mapped_area);
+}
+
+void write_grid_geometry(JsonWriter& j, const OccupancyGrid& grid) {
+  j.key("size_x").value(grid.size_x()).key("size_y").value(grid.size_y());
+  j.key("resolution").value(grid.resolution());
+  j.key("x_min").value(grid.x_min()).key("x_max").value(grid.x_max());
+  j.key("y_min").value(grid.y_min()).key("y_max").value(grid.y_max());
+}
+
+// ------------------------------------------------------------ map build --
+
+struct MapBuildArgs {
+  std::string config;
+  std::string input;
+  std::string out_dir;
+  std::string section;
+  bool json = false;
+};
+
+// Every file `map build` writes is named map_* in the output folder: refuse
+// when an input is (or resolves to) such a file there, before any work.
+void check_build_outputs(const MapBuildArgs& a) {
+  check_regular_input(a.config, "config file");
+  check_regular_input(a.input, "input");
+  std::error_code ec;
+  if (fs::exists(a.out_dir, ec) && !fs::is_directory(a.out_dir, ec)) {
+    throw IoError(printable(a.out_dir), "the output folder (-o) is an existing file, not a folder");
+  }
+  if (!fs::exists(a.out_dir, ec)) return;
+  const fs::path out = fs::canonical(a.out_dir, ec);
+  for (const auto& in : {a.config, a.input}) {
+    const fs::path p = fs::canonical(in, ec);
+    if (ec) continue;
+    if (p.parent_path() == out && p.filename().string().starts_with("map_")) {
+      throw IoError(printable(in),
+                    fmt::format("is in the output folder {} under a name `map build` writes "
+                                "(map_*); choose another -o",
+                                printable(a.out_dir)));
+    }
+  }
+}
+
+void run_map_build(const MapBuildArgs& a) {
+  check_build_outputs(a);
   const IniFile ini = IniFile::load(a.config, IniOptions{.strict = false});
-  const std::string section = a.section.empty() ? find_map_section(ini) : a.section;
-  if (!ini.has_section(section)) {
-    throw ConfigError(a.config, section, "", "section not found");
-  }
-  MultiMetricMapLoadReport report;
-  MultiMetricMap mm = MultiMetricMap::from_config(ini, section, &report);
-  if (mm.size() == 0) {
-    throw ConfigError(a.config, section, "", "declares no map (every `_count` is 0)");
-  }
+  MapBuildConfig cfg = load_map_build_config(ini, a.section);
+  MultiMetricMap& mm = cfg.maps;
   const MapBuildResult r = build_map(a.input, mm);
-  std::filesystem::create_directories(a.out_dir);
-  auto files = mm.save((std::filesystem::path(a.out_dir) / "map").string());
+  std::error_code ec;
+  fs::create_directories(a.out_dir, ec);
+  if (ec) throw IoError(printable(a.out_dir), "cannot create the output folder: " + ec.message());
+  auto files = mm.save((fs::path(a.out_dir) / "map").string());
   // Occupancy grids also as a ROS map_server map (map_saver's trinary PNG + yaml).
   for (std::size_t i = 0; i < mm.size(); ++i) {
     const auto& e = mm.entries()[i];
     if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
       const RosMapFiles ros = save_ros_map(
-          (std::filesystem::path(a.out_dir) / fmt::format("map_{:02}_{}", i, e.map->kind())).string(),
-          g->grid());
+          (fs::path(a.out_dir) / fmt::format("map_{:02}_{}", i, e.map->kind())).string(), g->grid());
       files.push_back(ros.image);
       files.push_back(ros.yaml);
     }
   }
 
+  std::vector<Issue> issues;
+  if (r.observations == 0) {
+    issues.push_back({"no-observations", fmt::format("{} holds no observation: every map is empty",
+                                                     printable(a.input))});
+  } else if (r.observations_used == 0) {
+    issues.push_back({"nothing-inserted",
+                      fmt::format("none of the {} observations was inserted into any map",
+                                  r.observations)});
+  } else {
+    for (std::size_t i = 0; i < mm.size(); ++i) {
+      const auto& e = mm.entries()[i];
+      if (e.params.enable_insertion && e.observations_inserted == 0) {
+        issues.push_back({"empty-map", fmt::format("map {} ({}) received no observation", i,
+                                                   e.map->kind())});
+      }
+    }
+  }
+  const char* input_kind = r.input == MapInputKind::kSimpleMap ? "simplemap" : "rawlog";
+
   if (a.json) {
-    std::string maps;
+    JsonWriter j;
+    j.begin_object();
+    j.key("config").value(a.config).key("section").value(cfg.section);
+    j.key("input").value(a.input).key("input_kind").value(input_kind);
+    j.key("keyframes").value(r.keyframes).key("odometry_steps").value(r.odometry_steps);
+    j.key("observations").value(r.observations).key("observations_used").value(r.observations_used);
+    j.key("seconds").value(r.seconds);
+    j.key("maps").begin_array();
     for (std::size_t i = 0; i < mm.size(); ++i) {
       const auto& e = mm.entries()[i];
       const auto st = e.map->statistics();
-      std::string entropy;
+      j.begin_object().key("index").value(i).key("kind").value(e.map->kind());
+      j.key("section").value(e.section_prefix).key(st.unit).value(st.elements);
+      j.key("total_cells").value(st.total_cells);
+      j.key("observations_inserted").value(e.observations_inserted);
+      j.key("insertion_enabled").value(e.params.enable_insertion);
       if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
-        const GridEntropy h = grid_entropy(g->grid());
-        entropy = fmt::format(", \"entropy\": {:.6f}, \"information\": {:.6f}, \"mapped_cells\": {}, "
-                              "\"mapped_area_m2\": {:.6f}",
-                              h.entropy, h.information, h.mapped_cells, h.mapped_area);
+        write_entropy(j, g->grid());
       }
-      maps += fmt::format(
-          "{}    {{\"index\": {}, \"kind\": \"{}\", \"section\": \"{}\", \"{}\": {}, "
-          "\"total_cells\": {}, \"observations_inserted\": {}, \"insertion_enabled\": {}{}}}",
-          i ? ",\n" : "", i, e.map->kind(), json_escape(e.section_prefix), st.unit, st.elements,
-          st.total_cells, e.observations_inserted, e.params.enable_insertion, entropy);
+      j.end_object();
     }
-    std::string ignored;
-    for (std::size_t i = 0; i < report.ignored_keys.size(); ++i) {
-      const auto& k = report.ignored_keys[i];
-      ignored += fmt::format("{}    {{\"section\": \"{}\", \"key\": \"{}\", \"reason\": \"{}\"}}",
-                             i ? ",\n" : "", json_escape(k.section), json_escape(k.key),
-                             json_escape(k.reason));
+    j.end_array();
+    j.key("ignored_keys").begin_array();
+    for (const auto& k : cfg.ignored_keys) {
+      j.begin_object().key("section").value(k.section).key("key").value(k.key);
+      j.key("reason").value(k.reason).end_object();
     }
-    std::string out_files;
-    for (std::size_t i = 0; i < files.size(); ++i) {
-      out_files += fmt::format("{}\"{}\"", i ? ", " : "", json_escape(files[i]));
-    }
-    fmt::print(
-        "{{\n  \"config\": \"{}\",\n  \"section\": \"{}\",\n  \"input\": \"{}\",\n"
-        "  \"input_kind\": \"{}\",\n  \"keyframes\": {},\n  \"odometry_steps\": {},\n"
-        "  \"observations\": {},\n  \"observations_used\": {},\n  \"seconds\": {:.6f},\n"
-        "  \"maps\": [\n{}\n  ],\n  \"ignored_keys\": [\n{}\n  ],\n  \"files\": [{}]\n}}\n",
-        json_escape(a.config), json_escape(section), json_escape(a.input),
-        r.input == MapInputKind::kSimpleMap ? "simplemap" : "rawlog", r.keyframes,
-        r.odometry_steps, r.observations, r.observations_used, r.seconds, maps, ignored, out_files);
-    return 0;
+    j.end_array();
+    j.key("files").value(files);
+    write_issues(j, issues);
+    j.end_object();
+    fmt::print("{}\n", j.str());
+    finish(issues);
+    return;
   }
-  fmt::print("config {} [{}]: {} map{}\n", a.config, section, mm.size(), mm.size() == 1 ? "" : "s");
+  fmt::print("config {} [{}]: {} map{}\n", printable(a.config), printable(cfg.section), mm.size(),
+             mm.size() == 1 ? "" : "s");
   fmt::print("input {} ({}): {} keyframes, {} odometry steps, {} observations ({} used), {:.3f} s\n",
-             a.input, r.input == MapInputKind::kSimpleMap ? "simplemap" : "rawlog", r.keyframes,
-             r.odometry_steps, r.observations, r.observations_used, r.seconds);
+             printable(a.input), input_kind, r.keyframes, r.odometry_steps, r.observations,
+             r.observations_used, r.seconds);
   for (std::size_t i = 0; i < mm.size(); ++i) {
     const auto& e = mm.entries()[i];
     const auto st = e.map->statistics();
@@ -163,89 +186,138 @@ int run_map_build(const MapBuildArgs& a) {
       fmt::print("{}", entropy_line(g->grid()));
     }
   }
-  for (const auto& k : report.ignored_keys) {
-    fmt::print("  without effect: [{}] {}: {}\n", k.section, k.key, k.reason);
+  for (const auto& k : cfg.ignored_keys) {
+    fmt::print("  without effect: [{}] {}: {}\n", printable(k.section), printable(k.key), k.reason);
   }
-  for (const auto& f : files) fmt::print("  wrote {}\n", f);
-  return 0;
+  for (const auto& f : files) fmt::print("  wrote {}\n", printable(f));
+  if (!issues.empty()) fmt::print("  {} issue{} (below)\n", issues.size(), issues.size() == 1 ? "" : "s");
+  finish(issues);
 }
+
+// ---------------------------------------------------- grids in and out --
+
+/// A grid read by `map convert` / `map voronoi`, with the files it came from.
+struct LoadedGrid {
+  OccupancyGrid grid;
+  std::string kind;                 ///< "ROS map", "MRPT gridmap", "rove grid"
+  std::vector<fs::path> files;      ///< every file read (a map.yaml and its image)
+  std::vector<std::string> notes;   ///< keys without effect
+};
+
+// Reads a grid from a ROS map.yaml, an MRPT .gridmap or a .rovegrid. `arg`
+// names the command-line argument in errors.
+LoadedGrid load_any_grid(const std::string& path, const std::string& arg) {
+  LoadedGrid g;
+  g.files.push_back(path);
+  if (ends_with_ci(path, ".yaml") || ends_with_ci(path, ".yml")) {
+    RosMap m = load_ros_map(path);
+    for (const auto& k : m.yaml.unknown_keys) {
+      g.notes.push_back(fmt::format("{} key '{}'", printable(path), printable(k)));
+    }
+    g.kind = "ROS map";
+    g.files.push_back(m.image_path);
+    g.grid = std::move(m.grid);
+    return g;
+  }
+  if (ends_with_ci(path, ".gridmap") || ends_with_ci(path, ".gridmap.gz")) {
+    check_regular_input(path, "grid map");
+    g.kind = "MRPT gridmap";
+    g.grid = load_mrpt_gridmap(path).grid;
+    return g;
+  }
+  if (ends_with_ci(path, ".rovegrid") || ends_with_ci(path, ".rovegrid.gz")) {
+    check_regular_input(path, "grid map");
+    g.kind = "rove grid";
+    g.grid = load_grid(path);
+    return g;
+  }
+  throw CLI::ValidationError(arg, fmt::format("{}: unknown input kind (expected .yaml, "
+                                              ".gridmap[.gz] or .rovegrid[.gz])",
+                                              printable(path)));
+}
+
+// ---------------------------------------------------------- map convert --
 
 struct MapConvertArgs {
   std::string input;
   std::string output;
+  std::string mode = "trinary";
   bool probability = false;
   bool pgm = false;
+  bool json = false;
 };
 
-bool ends_with_ci(std::string s, std::string_view suffix) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s.ends_with(suffix);
-}
-
-// Reads a grid from a ROS map.yaml, an MRPT .gridmap or a .rovegrid; `from`
-// names the kind. `arg` names the command-line argument in errors.
-OccupancyGrid load_any_grid(const std::string& path, const std::string& arg, std::string& from) {
-  if (ends_with_ci(path, ".yaml") || ends_with_ci(path, ".yml")) {
-    RosMap m = load_ros_map(path);
-    for (const auto& k : m.yaml.unknown_keys) {
-      fmt::print("  without effect: {} key '{}'\n", path, k);
-    }
-    from = "ROS map";
-    return std::move(m.grid);
+void run_map_convert(const MapConvertArgs& a) {
+  const bool to_yaml = ends_with_ci(a.output, ".yaml");
+  const bool to_rovegrid = ends_with_ci(a.output, ".rovegrid") || ends_with_ci(a.output, ".rovegrid.gz");
+  if (!to_yaml && !to_rovegrid) {
+    throw CLI::ValidationError("OUT", fmt::format("{}: unknown output kind (expected .yaml or "
+                                                  ".rovegrid[.gz])",
+                                                  printable(a.output)));
   }
-  if (ends_with_ci(path, ".gridmap") || ends_with_ci(path, ".gridmap.gz")) {
-    from = "MRPT gridmap";
-    return load_mrpt_gridmap(path).grid;
-  }
-  if (ends_with_ci(path, ".rovegrid") || ends_with_ci(path, ".rovegrid.gz")) {
-    from = "rove grid";
-    return load_grid(path);
-  }
-  throw CLI::ValidationError(arg, fmt::format("{}: unknown input kind (expected .yaml, "
-                                              ".gridmap[.gz] or .rovegrid[.gz])", path));
-}
-
-int run_map_convert(const MapConvertArgs& a) {
-  std::string from;
-  const OccupancyGrid grid = load_any_grid(a.input, "IN", from);
+  const LoadedGrid in = load_any_grid(a.input, "IN");
+  const OccupancyGrid& grid = in.grid;
   std::vector<std::string> written;
-  if (ends_with_ci(a.output, ".yaml")) {
+  if (to_yaml) {
     GridImageOptions o;
-    o.mode = a.probability ? RosMapMode::kScale : RosMapMode::kTrinary;
+    o.mode = a.probability || a.mode == "scale" ? RosMapMode::kScale : RosMapMode::kTrinary;
     o.format = a.pgm ? ImageFormat::kPgm : ImageFormat::kPng;
-    const auto f = save_ros_map(a.output.substr(0, a.output.size() - 5), grid, o);
+    const std::string prefix = a.output.substr(0, a.output.size() - 5);
+    const fs::path image = prefix + (a.pgm ? ".pgm" : ".png");
+    check_outputs_distinct(in.files, {image, a.output});
+    const auto f = save_ros_map(prefix, grid, o);
     written = {f.image, f.yaml};
-  } else if (ends_with_ci(a.output, ".rovegrid") || ends_with_ci(a.output, ".rovegrid.gz")) {
+  } else {
+    check_outputs_distinct(in.files, {a.output});
     save_grid(a.output, grid,
               ends_with_ci(a.output, ".gz") ? FileCompression::kGzip : FileCompression::kNone);
     written = {a.output};
-  } else {
-    throw CLI::ValidationError("OUT", fmt::format("{}: unknown output kind (expected .yaml or "
-                                                  ".rovegrid[.gz])", a.output));
   }
-  fmt::print("{} {}: {} x {} cells of {} m, x [{}, {}] y [{}, {}] m\n", from, a.input,
+  if (a.json) {
+    JsonWriter j;
+    j.begin_object().key("input").value(a.input).key("input_kind").value(in.kind);
+    write_grid_geometry(j, grid);
+    write_entropy(j, grid);
+    j.key("without_effect").value(in.notes);
+    j.key("files").value(written);
+    write_issues(j, {});
+    j.end_object();
+    fmt::print("{}\n", j.str());
+    return;
+  }
+  for (const auto& n : in.notes) fmt::print("  without effect: {}\n", n);
+  fmt::print("{} {}: {} x {} cells of {} m, x [{}, {}] y [{}, {}] m\n", in.kind, printable(a.input),
              grid.size_x(), grid.size_y(), grid.resolution(), grid.x_min(), grid.x_max(),
              grid.y_min(), grid.y_max());
   fmt::print("{}", entropy_line(grid));
-  for (const auto& f : written) fmt::print("  wrote {}\n", f);
-  return 0;
+  for (const auto& f : written) fmt::print("  wrote {}\n", printable(f));
 }
+
+// ---------------------------------------------------------- map voronoi --
 
 struct MapVoronoiArgs {
   std::string input;
   std::string output;
   VoronoiOptions options;
+  bool json = false;
 };
 
 // The grid as map_saver's gray levels with the diagram drawn in black on
 // top: occupied 0, diagram 0 too but only on free cells, so the image
 // reads as the map with its skeleton.
-int run_map_voronoi(const MapVoronoiArgs& a) {
+void run_map_voronoi(const MapVoronoiArgs& a) {
   if (!ends_with_ci(a.output, ".png") && !ends_with_ci(a.output, ".pgm")) {
-    throw CLI::ValidationError("--out", fmt::format("{}: expected a .png or .pgm image", a.output));
+    throw CLI::ValidationError("--out", fmt::format("{}: expected a .png or .pgm image",
+                                                    printable(a.output)));
   }
-  std::string from;
-  const OccupancyGrid grid = load_any_grid(a.input, "IN", from);
+  const LoadedGrid in = load_any_grid(a.input, "IN");
+  check_outputs_distinct(in.files, {a.output});
+  const OccupancyGrid& grid = in.grid;
+  // The diagram and the picture drawn from it, before allocating either.
+  check_memory_budget(voronoi_diagram_bytes(grid.size_x(), grid.size_y()) +
+                          static_cast<std::uint64_t>(grid.size_x()) * grid.size_y(),
+                      fmt::format("{}: {} \u00d7 {} cells (their Voronoi diagram and its picture)",
+                                  printable(a.input), grid.size_x(), grid.size_y()));
   const VoronoiDiagram vd = voronoi_diagram(grid, a.options);
   GrayImage img = grid_to_image(grid, GridImageOptions{});
   // Image row 0 is the top of the map (largest y).
@@ -260,16 +332,48 @@ int run_map_voronoi(const MapVoronoiArgs& a) {
     }
   }
   write_gray_image(a.output, img, ends_with_ci(a.output, ".pgm") ? ImageFormat::kPgm : ImageFormat::kPng);
-  fmt::print("{} {}: {} x {} cells of {} m\n", from, a.input, grid.size_x(), grid.size_y(),
-             grid.resolution());
+  std::vector<Issue> issues;
+  if (vd.cells == 0) {
+    issues.push_back({"empty-diagram",
+                      fmt::format("no free cell is equidistant to two obstacles with more than "
+                                  "{} m of clearance (--robot-size)",
+                                  a.options.min_clearance)});
+  }
+  if (a.json) {
+    JsonWriter j;
+    j.begin_object().key("input").value(a.input).key("input_kind").value(in.kind);
+    write_grid_geometry(j, grid);
+    j.key("diagram_cells").value(vd.cells);
+    j.key("diagram_length_m").value(static_cast<double>(vd.cells) * grid.resolution());
+    j.key("min_clearance_m");
+    if (vd.cells > 0) {
+      j.value(lo);
+    } else {
+      j.null();
+    }
+    j.key("max_clearance_m");
+    if (vd.cells > 0) {
+      j.value(hi);
+    } else {
+      j.null();
+    }
+    j.key("files").value(std::vector<std::string>{a.output});
+    write_issues(j, issues);
+    j.end_object();
+    fmt::print("{}\n", j.str());
+    finish(issues);
+    return;
+  }
+  fmt::print("{} {}: {} x {} cells of {} m\n", in.kind, printable(a.input), grid.size_x(),
+             grid.size_y(), grid.resolution());
   if (vd.cells > 0) {
     fmt::print("  voronoi diagram: {} cells ({:.2f} m), clearance {:.3f} to {:.3f} m\n", vd.cells,
                static_cast<double>(vd.cells) * grid.resolution(), lo, hi);
   } else {
     fmt::print("  voronoi diagram: no cell\n");
   }
-  fmt::print("  wrote {}\n", a.output);
-  return 0;
+  fmt::print("  wrote {}\n", printable(a.output));
+  finish(issues);
 }
 
 }  // namespace
@@ -281,66 +385,64 @@ void add_map_command(CLI::App& app) {
   auto* build = map->add_subcommand(
       "build",
       "Build the maps an MRPT config declares from a rawlog (poses from odometry) or a "
-      "simplemap (its poses), as MRPT's observations2map");
+      "simplemap (its poses), as MRPT's observations2map. Writes map_* files into the output "
+      "folder, each atomically. Exit status: 0 ok, 1 error, 3 written with issues (nothing "
+      "inserted, an empty map), 130 Ctrl-C (nothing written)");
   build->add_option("CONFIG", args->config, "MRPT-style config file declaring a multi-metric map")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   build->add_option("INPUT", args->input,
                     "MRPT simplemap, or a rawlog: MRPT or rove rawlog (plain or gzip), CARMEN log "
                     "(plain or bzip2)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  build->add_option("-o,--out", args->out_dir, "output directory (created)")->required();
+      ->required();
+  build->add_option("-o,--out", args->out_dir, "output folder (created)")->required();
   build->add_option("--section", args->section,
                     "config section with the `<kind>_count` keys (default: the first such)");
   build->add_flag("--json", args->json, "print the summary as JSON");
-  build->callback([args] {
-    const int rc = run_map_build(*args);
-    if (rc != 0) throw CLI::RuntimeError(rc);
-  });
+  build->callback([args] { run_map_build(*args); });
 
   auto cargs = std::make_shared<MapConvertArgs>();
   auto* convert = map->add_subcommand(
       "convert",
       "Convert an occupancy grid between a ROS map (map.yaml + PNG/PGM), an MRPT .gridmap "
-      "(read only) and rove's binary .rovegrid");
-  convert->add_option("IN", cargs->input, "map.yaml, .gridmap[.gz] or .rovegrid[.gz]")
-      ->required()
-      ->check(CLI::ExistingFile);
+      "(read only) and rove's binary .rovegrid. Outputs are written atomically and may not "
+      "be any input");
+  convert->add_option("IN", cargs->input, "map.yaml, .gridmap[.gz] or .rovegrid[.gz]")->required();
   convert->add_option("OUT", cargs->output,
                       "NAME.yaml (writes NAME.png + NAME.yaml) or .rovegrid[.gz]")
       ->required();
-  convert->add_flag("--probability", cargs->probability,
-                    "image of 255·p(free) instead of map_saver's 0/205/254");
+  convert
+      ->add_option("--mode", cargs->mode,
+                   "ROS map image, stated in the yaml as map_server's mode: trinary "
+                   "(map_saver's 0/205/254) or scale (255·p(free))")
+      ->check(CLI::IsMember({"trinary", "scale"}))
+      ->capture_default_str();
+  convert->add_flag("--probability", cargs->probability, "same as --mode scale");
   convert->add_flag("--pgm", cargs->pgm, "write the image as PGM (P5) instead of PNG");
-  convert->callback([cargs] {
-    const int rc = run_map_convert(*cargs);
-    if (rc != 0) throw CLI::RuntimeError(rc);
-  });
+  convert->add_flag("--json", cargs->json, "print the summary as JSON");
+  convert->callback([cargs] { run_map_convert(*cargs); });
 
   auto vargs = std::make_shared<MapVoronoiArgs>();
   auto* voronoi = map->add_subcommand(
       "voronoi",
       "Compute the Voronoi diagram of a grid's free space (with clearances) and draw it over "
-      "the map as an image");
-  voronoi->add_option("IN", vargs->input, "map.yaml, .gridmap[.gz] or .rovegrid[.gz]")
-      ->required()
-      ->check(CLI::ExistingFile);
+      "the map as an image (written atomically; it may not be the map's own image). Exit "
+      "status 3 when the diagram is empty");
+  voronoi->add_option("IN", vargs->input, "map.yaml, .gridmap[.gz] or .rovegrid[.gz]")->required();
   voronoi->add_option("-o,--out", vargs->output, "image to write (.png or .pgm)")->required();
   voronoi->add_option("--robot-size", vargs->options.min_clearance,
-                      "leave out cells with at most this clearance, meters (default 0)")
-      ->check(CLI::NonNegativeNumber);
+                      "leave out cells with at most this clearance, meters")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   voronoi->add_option("--occupied-below", vargs->options.occupied_threshold,
-                      "p(free) below which a cell is an obstacle (default 0.5)")
-      ->check(CLI::Range(0.0, 1.0));
+                      "p(free) below which a cell is an obstacle")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   voronoi->add_option("--separation", vargs->options.min_separation,
-                      "the two obstacles must be more than this × the clearance apart "
-                      "(default 1.75)")
-      ->check(CLI::PositiveNumber);
-  voronoi->callback([vargs] {
-    const int rc = run_map_voronoi(*vargs);
-    if (rc != 0) throw CLI::RuntimeError(rc);
-  });
+                      "the two obstacles must be more than this × the clearance apart")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  voronoi->add_flag("--json", vargs->json, "print the summary as JSON");
+  voronoi->callback([vargs] { run_map_voronoi(*vargs); });
 }
 
 }  // namespace rove::cli

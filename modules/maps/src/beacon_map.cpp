@@ -9,6 +9,7 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
 #include "rove/math/statistics.h"
 #include "rove/poses/angle.h"
 
@@ -453,19 +454,17 @@ MapStatistics BeaconMap::statistics() const {
 
 std::vector<std::string> BeaconMap::save(const std::string& prefix) const {
   const std::string path = prefix + "_beacons.txt";
-  std::ofstream f(path);
-  if (!f) throw IoError(path, "cannot open for writing");
-  f << "% id x y z var_x var_y var_z det2d det3d c_xy c_xz c_yz kind\n";
+  std::string f = "% id x y z var_x var_y var_z det2d det3d c_xy c_xz c_yz kind\n";
   for (const auto& b : beacons_) {
     const PointGaussian3 g = b.moments();
     const auto& C = g.covariance;
-    f << fmt::format("{} {:.6f} {:.6f} {:.6f} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} "
+    f += fmt::format("{} {:.6f} {:.6f} {:.6f} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} "
                      "{:.6e} {}\n",
                      b.id, g.mean.x(), g.mean.y(), g.mean.z(), C(0, 0), C(1, 1), C(2, 2),
                      C.topLeftCorner<2, 2>().determinant(), C.determinant(), C(0, 1), C(0, 2),
                      C(1, 2), kind_name(b.kind));
   }
-  if (!f) throw IoError(path, "write failed");
+  write_text_file_atomically(path, f);
   return {path};
 }
 

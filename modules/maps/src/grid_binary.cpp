@@ -1,10 +1,12 @@
 #include "rove/maps/grid_binary.h"
 
 #include <cmath>
+#include <filesystem>
 
 #include <fmt/format.h>
 
 #include "rove/core/error.h"
+#include "rove/core/files.h"
 #include "rove/serialization/file_stream.h"
 #include "rove/serialization/gzip_stream.h"
 #include "rove/serialization/version.h"
@@ -74,7 +76,9 @@ void save(OutArchive& ar, const OccupancyGrid16& grid) { save_record(ar, grid); 
 void load(InArchive& ar, OccupancyGrid& grid) { load_record(ar, grid); }
 void load(InArchive& ar, OccupancyGrid16& grid) { load_record(ar, grid); }
 
-void save_grid(const std::string& path, const OccupancyGrid& grid, FileCompression compression) {
+namespace {
+
+void save_grid_to(const std::string& path, const OccupancyGrid& grid, FileCompression compression) {
   auto out = open_output_file(path, compression);
   OutArchive ar(*out);
   ar.write_bytes(std::as_bytes(std::span<const char>(kRoveGridMagic)));
@@ -88,7 +92,16 @@ void save_grid(const std::string& path, const OccupancyGrid& grid, FileCompressi
   }
 }
 
+}  // namespace
+
+void save_grid(const std::string& path, const OccupancyGrid& grid, FileCompression compression) {
+  write_file_atomically(path, [&](const std::filesystem::path& tmp) {
+    save_grid_to(tmp.string(), grid, compression);
+  });
+}
+
 OccupancyGrid load_grid(const std::string& path, ArchiveLimits limits) {
+  check_regular_input(path, "rove grid");
   auto in = open_input_file(path);
   InArchive ar(*in, limits);
   std::array<char, 8> magic{};

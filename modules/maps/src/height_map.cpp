@@ -8,6 +8,7 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
 #include "rove/obs/range_image_3d.h"
 #include "rove/obs/range_scan_2d.h"
 
@@ -190,8 +191,7 @@ std::vector<std::string> HeightMap::save(const std::string& prefix) const {
   std::vector<std::string> out;
   for (const bool means : {true, false}) {
     const std::string path = prefix + (means ? "_mean.txt" : "_count.txt");
-    std::ofstream f(path);
-    if (!f) throw IoError(path, "cannot open for writing");
+    std::string f;
     for (std::uint32_t cy = 0; cy < size_y_; ++cy) {
       std::string line;
       for (std::uint32_t cx = 0; cx < size_x_; ++cx) {
@@ -199,9 +199,10 @@ std::vector<std::string> HeightMap::save(const std::string& prefix) const {
         if (cx > 0) line += ' ';
         line += means ? fmt::format("{:.6g}", c.mean_z) : fmt::format("{}", c.count);
       }
-      f << line << '\n';
+      f += line;
+      f += '\n';
     }
-    if (!f) throw IoError(path, "write failed");
+    write_text_file_atomically(path, f);
     out.push_back(path);
   }
   return out;

@@ -10,6 +10,7 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/files.h"
 #include "rove/obs/beacon_ranges.h"
 #include "rove/poses/angle.h"
 
@@ -320,16 +321,14 @@ MapStatistics LandmarkMap::statistics() const {
 
 std::vector<std::string> LandmarkMap::save(const std::string& prefix) const {
   const std::string path = prefix + "_landmarks.txt";
-  std::ofstream f(path);
-  if (!f) throw IoError(path, "cannot open for writing");
-  f << "% id x y z c_xx c_yy c_zz c_xy c_xz c_yz times_seen\n";
+  std::string f = "% id x y z c_xx c_yy c_zz c_xy c_xz c_yz times_seen\n";
   for (const auto& l : landmarks_) {
     const auto& C = l.position.covariance;
-    f << fmt::format("{} {:.6f} {:.6f} {:.6f} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {}\n",
+    f += fmt::format("{} {:.6f} {:.6f} {:.6f} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {}\n",
                      l.id, l.position.mean.x(), l.position.mean.y(), l.position.mean.z(), C(0, 0),
                      C(1, 1), C(2, 2), C(0, 1), C(0, 2), C(1, 2), l.times_seen);
   }
-  if (!f) throw IoError(path, "write failed");
+  write_text_file_atomically(path, f);
   return {path};
 }
 

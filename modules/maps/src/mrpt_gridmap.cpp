@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "rove/core/error.h"
+#include "rove/core/files.h"
 #include "rove/serialization/input_file.h"
 #include "rove/serialization/mrpt_format.h"
 
@@ -140,6 +141,7 @@ MrptGridmap read_mrpt_gridmap(InArchive& ar) {
 }
 
 MrptGridmap load_mrpt_gridmap(const std::string& path, ArchiveLimits limits) {
+  check_regular_input(path, "MRPT gridmap");
   auto stream = open_input_file(path);
   InArchive ar(*stream, limits);
   MrptGridmap g = read_mrpt_gridmap(ar);

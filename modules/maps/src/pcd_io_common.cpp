@@ -7,6 +7,8 @@
 #include <system_error>
 
 #include "rove/core/error.h"
+#include "rove/core/files.h"
+#include "rove/core/memory_budget.h"
 
 namespace rove::detail {
 
@@ -17,24 +19,15 @@ struct FileCloser {
 }  // namespace
 
 std::vector<std::uint8_t> read_file_bytes(const std::string& path) {
-  std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
-  if (!f) throw IoError(path, std::string("cannot open for reading: ") + std::strerror(errno));
-  if (std::fseek(f.get(), 0, SEEK_END) != 0) throw IoError(path, "cannot seek");
-  const long size = std::ftell(f.get());
-  if (size < 0) throw IoError(path, "cannot tell the file size");
-  std::rewind(f.get());
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
-  if (size > 0 && std::fread(bytes.data(), 1, bytes.size(), f.get()) != bytes.size())
-    throw IoError(path, "short read");
-  return bytes;
+  // A regular file no larger than the memory budget (a device or a FIFO
+  // would otherwise be read without end).
+  const std::string data = read_input_file(path, memory_budget_bytes(), "point cloud");
+  return std::vector<std::uint8_t>(data.begin(), data.end());
 }
 
 void write_file_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
-  std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "wb"));
-  if (!f) throw IoError(path, std::string("cannot open for writing: ") + std::strerror(errno));
-  if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size())
-    throw IoError(path, "short write");
-  if (std::fflush(f.get()) != 0) throw IoError(path, "cannot flush");
+  write_text_file_atomically(
+      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 std::size_t scalar_size(ScalarKind k) noexcept {
