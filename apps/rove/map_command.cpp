@@ -317,7 +317,8 @@ void run_map_voronoi(const MapVoronoiArgs& a) {
   check_memory_budget(voronoi_diagram_bytes(grid.size_x(), grid.size_y()) +
                           static_cast<std::uint64_t>(grid.size_x()) * grid.size_y(),
                       fmt::format("{}: {} \u00d7 {} cells (their Voronoi diagram and its picture)",
-                                  printable(a.input), grid.size_x(), grid.size_y()));
+                                  printable(in.files.back().string()), grid.size_x(),
+                                  grid.size_y()));
   const VoronoiDiagram vd = voronoi_diagram(grid, a.options);
   GrayImage img = grid_to_image(grid, GridImageOptions{});
   // Image row 0 is the top of the map (largest y).

@@ -34,7 +34,7 @@ add_test(NAME cli.map_build_beacons_json COMMAND rove map build --json
   ${rove_map_configs}/rbpf-slam/RO-SLAM_simulatedData_SOG.ini
   ${rove_map_datasets}/RO-SLAM_demo.rawlog -o ${rove_map_dir}/beacons)
 set_tests_properties(cli.map_build_beacons_json PROPERTIES LABELS cli
-  PASS_REGULAR_EXPRESSION "\"input_kind\": \"rawlog\",\n  \"keyframes\": 100,\n  \"odometry_steps\": 100,.*\"kind\": \"beaconMap\"[^\n]*\"beacons\": 1[0-9][^\n]*\"observations_inserted\": 100")
+  PASS_REGULAR_EXPRESSION "\"input_kind\": \"rawlog\",\n  \"keyframes\": 100,\n  \"odometry_steps\": 100,.*\"kind\": \"beaconMap\",[^}]*\"beacons\": 1[0-9],[^}]*\"observations_inserted\": 100,.*\"issues\": \\[\\]")
 
 # A misspelled key is reported by name, with its section.
 file(WRITE ${rove_map_dir}/typo.ini
@@ -103,3 +103,13 @@ add_test(NAME cli.map_voronoi_bad_output COMMAND rove map voronoi
   ${PROJECT_SOURCE_DIR}/modules/maps/tests/data/grid_uwb_demo.gridmap.gz -o ${rove_map_dir}/uwb_voronoi.jpg)
 set_tests_properties(cli.map_voronoi_bad_output PROPERTIES LABELS cli
   PASS_REGULAR_EXPRESSION "uwb_voronoi\\.jpg: expected a \\.png or \\.pgm image")
+
+# Careless input (apps/tests/map_safety.sh): outputs over inputs are refused
+# with inputs intact, sizes beyond the memory budget are refused naming the
+# file or the config key, `config check --for` rejects what the commands
+# reject and warns on repeated keys.
+add_test(NAME cli.map_safety
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/tests/map_safety.sh $<TARGET_FILE:rove>
+          ${PROJECT_SOURCE_DIR} ${rove_map_dir}/safety)
+set_tests_properties(cli.map_safety PROPERTIES LABELS cli TIMEOUT 300
+  PASS_REGULAR_EXPRESSION "[0-9]+ passed, 0 failed")
