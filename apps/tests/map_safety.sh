@@ -100,6 +100,13 @@ check config_not_a_number 1 "many\\.ini: \\[ICP\\] maxIterations.*'many'" -- con
 check config_duplicate_key 3 "dup\\.ini:$dup_line: \\[ICP\\] maxIterations repeats line $first_line" -- \
   config check --for icp-slam dup.ini
 ROVE_MEMORY_BUDGET=100M check config_budget_named 1 'resolution=0\.001' -- config check --for map-build fine.ini
+printf '[M]\noccupancyGrid_count=1\n[M_occupancyGrid_00_insertOpts]\nmaxOccupancyUpdateCertainty=2\n' > certainty.ini
+check config_value_out_of_range 1 \
+  'certainty\.ini: \[M_occupancyGrid_00_insertOpts\] maxOccupancyUpdateCertainty: line 4: 2 is outside \[0, 1\]' -- \
+  config check --for map-build certainty.ini
+printf '[M]\nheightMap_count=1\n[M_heightMap_00_creationOpts]\nmax_x=inf\n' > height.ini
+check config_height_not_finite 1 'height\.ini: \[M_heightMap_00_creationOpts\] max_x: must be finite' -- \
+  config check --for map-build height.ini
 check config_dev_zero 1 '/dev/zero' -- config check /dev/zero
 out=$("$rove" config check --json --for icp-slam dup.ini 2>/dev/null)
 if python3 -c 'import json,sys; d=json.load(sys.stdin); assert [i["code"] for i in d["issues"]] == ["duplicate-section", "duplicate-key"] and d["files"][0]["ok"]' <<<"$out"; then

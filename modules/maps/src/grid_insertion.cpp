@@ -14,6 +14,8 @@
 #include <emmintrin.h>
 #endif
 
+#include <fmt/format.h>
+
 #include "rove/core/check.h"
 #include "rove/core/error.h"
 #include "rove/poses/angle.h"
@@ -494,6 +496,31 @@ void GridInsertionOptions::load(const IniFile& ini, std::string_view section) {
   read_float("CFD_features_gaussian_size", cfd_features_gaussian_size);
   read_float("CFD_features_median_size", cfd_features_median_size);
   read_bool("wideningBeamsWithDistance", widening_beams_with_distance);
+  // Each value against its range, naming the key (check() below is the
+  // precondition of the algorithms and stays the last line of defence).
+  const auto need = [&](bool ok, const char* key, float v, std::string_view range) {
+    if (!ok) {
+      throw ConfigError(ini.source(), sec, key,
+                        fmt::format("line {}: {} is outside {}", ini.line(section, key).value_or(0),
+                                    v, range));
+    }
+  };
+  const auto unit = [](float v) { return v >= 0.0f && v <= 1.0f; };
+  need(std::isfinite(map_altitude), "mapAltitude", map_altitude, "the finite numbers");
+  need(std::isfinite(max_distance_insertion) && max_distance_insertion > 0.0f,
+       "maxDistanceInsertion", max_distance_insertion, "(0, inf) meters");
+  need(unit(max_occupancy_update_certainty), "maxOccupancyUpdateCertainty",
+       max_occupancy_update_certainty, "[0, 1]");
+  need(unit(max_freeness_update_certainty), "maxFreenessUpdateCertainty",
+       max_freeness_update_certainty, "[0, 1]");
+  need(unit(max_freeness_invalid_ranges), "maxFreenessInvalidRanges", max_freeness_invalid_ranges,
+       "[0, 1]");
+  need(std::isfinite(horizontal_tolerance) && horizontal_tolerance >= 0.0f, "horizontalTolerance",
+       static_cast<float>(horizontal_tolerance * (180.0 / kPi)), "[0, inf) degrees");
+  need(std::isfinite(cfd_features_gaussian_size), "CFD_features_gaussian_size",
+       cfd_features_gaussian_size, "the finite numbers");
+  need(std::isfinite(cfd_features_median_size), "CFD_features_median_size",
+       cfd_features_median_size, "the finite numbers");
   try {
     check();
   } catch (const InvalidArgument& e) {

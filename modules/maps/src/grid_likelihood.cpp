@@ -4,6 +4,9 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <utility>
+
+#include <fmt/format.h>
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
@@ -131,6 +134,37 @@ void GridLikelihoodOptions::load(const IniFile& ini, std::string_view section) {
   ri("consensus_takeEachRange", consensus_take_each_range);
   rf("consensus_pow", consensus_pow);
   if (ini.has(section, "OWA_weights")) owa_weights = ini.get_vector<float>(section, "OWA_weights");
+  // Each value against its range, naming the key (check() below is the
+  // precondition of the models and stays the last line of defence).
+  const auto need = [&](bool ok, const char* key, double v, std::string_view range) {
+    if (!ok) {
+      throw ConfigError(ini.source(), sec, key,
+                        fmt::format("line {}: {} is outside {}", ini.line(section, key).value_or(0),
+                                    v, range));
+    }
+  };
+  const auto positive = [](float v) { return std::isfinite(v) && v > 0.0f; };
+  for (const auto& [key, v] :
+       {std::pair{"LF_zHit", lf_z_hit}, std::pair{"LF_zRandom", lf_z_random},
+        std::pair{"MI_exponent", mi_exponent}, std::pair{"consensus_pow", consensus_pow}}) {
+    need(std::isfinite(v), key, v, "the finite numbers");
+  }
+  need(positive(lf_std_hit), "LF_stdHit", lf_std_hit, "(0, inf)");
+  need(positive(lf_max_range), "LF_maxRange", lf_max_range, "(0, inf)");
+  need(std::isfinite(lf_max_corrs_distance) && lf_max_corrs_distance >= 0.0f,
+       "LF_maxCorrsDistance", lf_max_corrs_distance, "[0, inf)");
+  need(lf_decimation >= 1, "LF_decimation", lf_decimation, "[1, inf)");
+  need(mi_skip_rays >= 1, "MI_skip_rays", mi_skip_rays, "[1, inf)");
+  need(positive(mi_ratio_max_distance), "MI_ratio_max_distance", mi_ratio_max_distance, "(0, inf)");
+  need(ray_tracing_decimation >= 1, "rayTracing_decimation", ray_tracing_decimation, "[1, inf)");
+  need(positive(ray_tracing_std_hit), "rayTracing_stdHit", ray_tracing_std_hit, "(0, inf)");
+  need(consensus_take_each_range >= 1, "consensus_takeEachRange", consensus_take_each_range,
+       "[1, inf)");
+  for (const float w : owa_weights) need(std::isfinite(w), "OWA_weights", w, "the finite numbers");
+  if (owa_weights.empty() && method == GridLikelihoodMethod::kConsensusOWA) {
+    throw ConfigError(ini.source(), sec, "OWA_weights",
+                      "likelihoodMethod lmConsensusOWA needs OWA_weights (none given)");
+  }
   try {
     check();
   } catch (const InvalidArgument& e) {

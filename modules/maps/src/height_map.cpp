@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <fstream>
 
 #include <fmt/format.h>
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/memory_budget.h"
 #include "rove/core/files.h"
 #include "rove/obs/range_image_3d.h"
 #include "rove/obs/range_scan_2d.h"
@@ -30,7 +32,23 @@ HeightMapCreationOptions HeightMapCreationOptions::load(const ConfigSection& s) 
   }
   if (!(o.max_x > o.min_x)) s.fail("max_x", fmt::format("max_x ({}) must exceed min_x ({})", o.max_x, o.min_x));
   if (!(o.max_y > o.min_y)) s.fail("max_y", fmt::format("max_y ({}) must exceed min_y ({})", o.max_y, o.min_y));
-  if (!(o.resolution > 0)) s.fail("resolution", fmt::format("must be > 0, got {}", o.resolution));
+  if (!(o.resolution > 0) || !std::isfinite(o.resolution)) {
+    s.fail("resolution", fmt::format("must be finite and > 0, got {}", o.resolution));
+  }
+  for (const auto& [key, v] : {std::pair{"min_x", o.min_x}, std::pair{"max_x", o.max_x},
+                               std::pair{"min_y", o.min_y}, std::pair{"max_y", o.max_y}}) {
+    if (!std::isfinite(v)) s.fail(key, fmt::format("must be finite, got {}", v));
+  }
+  // The grid's size as HeightMap's constructor computes it, checked before
+  // anything is allocated.
+  const double nx = std::round((o.max_x - o.min_x) / o.resolution);
+  const double ny = std::round((o.max_y - o.min_y) / o.resolution);
+  const std::string what =
+      fmt::format("[{}] resolution={} over x [{}, {}] y [{}, {}] m gives a {} \u00d7 {} height grid",
+                  s.name(), o.resolution, o.min_x, o.max_x, o.min_y, o.max_y, nx, ny);
+  if (!(nx >= 1 && ny >= 1)) s.fail("resolution", what + ": no cell");
+  if (!(nx * ny <= 2147483648.0)) s.fail("resolution", what + ", above rove's limit of 2^31 cells");
+  check_memory_budget(checked_bytes(static_cast<std::uint64_t>(nx * ny), sizeof(HeightCell)), what);
   return o;
 }
 
