@@ -1,5 +1,6 @@
 #include "rove/maps/metric_map_builder.h"
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -7,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include "rove/core/error.h"
 #include "rove/core/ini.h"
+#include "rove/core/interrupt.h"
 #include "rove/maps/beacon_map.h"
 #include "rove/maps/landmark_map.h"
 #include "rove/maps/metric_map_points.h"
@@ -145,6 +148,44 @@ TEST(MapBuild, CarmenLogPointsAtOdometryPoses) {
     EXPECT_NEAR(cloud[i].y(), expected[i].y(), 1e-5) << "point " << i;
   }
   std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rove
+
+namespace rove {
+namespace {
+
+// Ctrl-C during `map build` stops at the next rawlog entry or keyframe
+// (throw_if_interrupted), before any map is written.
+TEST(MapBuild, CtrlCStopsTheBuildAtTheNextEntry) {
+  install_interrupt_handler();
+  for (const char* input : {"2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog",
+                            "localization_demo.simplemap.gz"}) {
+    const IniFile ini = IniFile::parse("[M]\npointsMap_count=1\n", "points.ini");
+    MapBuildConfig cfg = load_map_build_config(ini);
+    std::raise(SIGINT);
+    ASSERT_TRUE(interrupted());
+    EXPECT_THROW(build_map(dataset(input), cfg.maps), Interrupted) << input;
+    reset_interrupted();
+    EXPECT_TRUE(cfg.maps.empty()) << input;  // stopped before the first insertion
+    // Without a signal the same build runs to its end.
+    MapBuildConfig again = load_map_build_config(ini);
+    EXPECT_GT(build_map(dataset(input), again.maps).observations_used, 0u) << input;
+  }
+}
+
+TEST(MapBuild, ConfigWithoutMapsIsAnErrorNamingTheFile) {
+  const IniFile none = IniFile::parse("[M]\npointsMap_count=0\n", "none.ini");
+  EXPECT_THROW(load_map_build_config(none), ConfigError);
+  const IniFile no_section = IniFile::parse("[M]\nx=1\n", "nosec.ini");
+  try {
+    (void)load_map_build_config(no_section);
+    ADD_FAILURE();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("nosec.ini"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(load_map_build_config(IniFile::parse("[A]\nx=1\n[B]\nbeaconMap_count=1\n")).section, "B");
 }
 
 }  // namespace
