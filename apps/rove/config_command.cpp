@@ -1,6 +1,5 @@
 #include <fmt/format.h>
 
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -182,14 +181,12 @@ void add_config_command(CLI::App& app) {
       "does. Warns on repeated keys and sections. Exit status: 0 ok, 1 a file failed, 3 "
       "warnings only");
   check->add_option("files", options->files, "INI files")->required();
+  auto target = std::make_shared<std::string>();
   check
-      ->add_option("--for", options->target,
-                   "validate the values as this command does (default: syntax and duplicates "
-                   "only)")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, ConfigTarget>{{"icp-slam", ConfigTarget::kIcpSlam},
-                                              {"map-build", ConfigTarget::kMapBuild}},
-          CLI::ignore_case));
+      ->add_option("--for", *target,
+                   "validate the values as this command does (default: none, syntax and "
+                   "duplicates only)")
+      ->check(CLI::IsMember({"icp-slam", "map-build"}));
   check->add_option("--section", options->section,
                     "with --for map-build: the section with the `<kind>_count` keys (default: "
                     "the first such, as `map build`)");
@@ -198,7 +195,12 @@ void add_config_command(CLI::App& app) {
                   "(default: strict, except for --for map-build, which reads as MRPT)");
   check->add_flag("--list", options->list, "print every section with its keys and values");
   check->add_flag("--json", options->json, "print the result as JSON");
-  check->callback([options] { run_config_check(*options); });
+  check->callback([options, target] {
+    options->target = *target == "icp-slam"    ? ConfigTarget::kIcpSlam
+                      : *target == "map-build" ? ConfigTarget::kMapBuild
+                                               : ConfigTarget::kNone;
+    run_config_check(*options);
+  });
 }
 
 }  // namespace rove::cli
