@@ -288,7 +288,7 @@ void run(const AlignOptions& o) {
   }
 
   const std::string voxel_text =
-      voxels->size() == 1 && voxels->front() == 0 ? "none" : join(*voxels);
+      voxels->size() == 1 && voxels->front() == 0 ? "none" : join(*voxels) + " m";
   if (o.json) {
     JsonWriter j;
     j.begin_object();
@@ -336,11 +336,11 @@ void run(const AlignOptions& o) {
     fmt::print("T_target_source:\n");
     for (int i = 0; i < 4; ++i)
       fmt::print("{:12.6f} {:12.6f} {:12.6f} {:12.6f}\n", T(i, 0), T(i, 1), T(i, 2), T(i, 3));
-    fmt::print("method: {}\nvoxel: {} m{}\npoints: source {} target {}\nfitness: {:.6g} m^2\n"
+    fmt::print("method: {}\nvoxel: {}{}\npoints: source {} target {}\nfitness: {:.6g} m^2\n"
                "goodness: {:.4f}\niterations: {} (cap {}{})\ntime: {:.3f} s\n"
                "termination: {} ({})\n",
                o.method, voxel_text,
-               auto_voxel ? " (auto, from the target's density; --voxel 0 disables)" : "",
+               auto_voxel ? " (auto, from the target's density; --voxel 0 disables it)" : "",
                source_points, target_points, fitness, goodness, iterations, iteration_cap,
                o.method == "ndt" ? "" : " per level", seconds, to_string(termination), message);
     if (!o.output.empty()) fmt::print("aligned source written to {}\n", printable(o.output));
