@@ -1,8 +1,9 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cctype>
+#include <cstdlib>
 #include <exception>
-#include <regex>
 #include <string>
 #include <string_view>
 
@@ -32,26 +33,36 @@ void print_error(std::string_view prefix, std::string_view message) {
 // bound (a "non-negative" or "positive" number) becomes a 309-digit number.
 // Say what is expected instead.
 std::string readable_usage_error(std::string message) {
-  static const std::regex huge_range(
-      R"(Value (.*) not in range (-?[0-9.e+-]+) to [0-9]{30,}\.?[0-9]*)");
-  std::smatch m;
-  if (std::regex_search(message, m, huge_range)) {
-    const std::string value = m[1].str();
-    const double low = std::stod(m[2].str());
-    char* end = nullptr;
-    const double v = std::strtod(value.c_str(), &end);
-    const bool numeric = !value.empty() && end != nullptr && *end == '\0';
-    std::string want;
-    if (low > 0.0 || (low == 0.0 && numeric && v >= 0.0)) {
-      want = "must be a number greater than 0";  // CLI11's "positive" bound prints as 0.000000
-    } else if (low == 0.0) {
-      want = "must be a number >= 0";
-    } else {
-      want = "must be a number >= " + m[2].str();
-    }
-    message = m.prefix().str() + "'" + value + "' " + want + m.suffix().str();
+  // "Value V not in range LOW to HIGH" where HIGH has 30 or more digits.
+  const std::string head = "Value ", mid = " not in range ", to = " to ";
+  const std::size_t v = message.find(head);
+  const std::size_t r = message.find(mid, v == std::string::npos ? 0 : v);
+  if (v == std::string::npos || r == std::string::npos) return message;
+  const std::size_t low_at = r + mid.size();
+  const std::size_t t = message.find(to, low_at);
+  if (t == std::string::npos) return message;
+  std::size_t end = t + to.size(), digits = 0;
+  while (end < message.size() && (std::isdigit(static_cast<unsigned char>(message[end])) ||
+                                  message[end] == '.')) {
+    digits += message[end] != '.';
+    ++end;
   }
-  return message;
+  if (digits < 30) return message;
+  const std::string value = message.substr(v + head.size(), r - v - head.size());
+  const std::string low_text = message.substr(low_at, t - low_at);
+  const double low = std::strtod(low_text.c_str(), nullptr);
+  char* num_end = nullptr;
+  const double x = std::strtod(value.c_str(), &num_end);
+  const bool numeric = !value.empty() && num_end != nullptr && *num_end == '\0';
+  std::string want;
+  if (low > 0.0 || (low == 0.0 && numeric && x >= 0.0)) {
+    want = "must be a number greater than 0";  // CLI11's "positive" bound prints as 0.000000
+  } else if (low == 0.0) {
+    want = "must be a number >= 0";
+  } else {
+    want = "must be a number >= " + low_text;
+  }
+  return message.substr(0, v) + "'" + value + "' " + want + message.substr(end);
 }
 
 // The deepest subcommand the command line reached ("rove rawlog cut").
