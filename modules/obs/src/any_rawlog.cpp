@@ -141,6 +141,18 @@ std::optional<RawlogEntry> AnyRawlogReader::next() {
                         "malformed): not a robot log",
                         s.lines, s.param, s.sync, s.other, s.comments, s.malformed));
       }
+      if (entries_ == 0) {
+        // ODOM or TRUEPOS lines alone give no entry in layout #1 (odometry
+        // only goes between two scans) and TRUEPOS none in either layout.
+        throw ParseError(
+            {path_, s.lines, std::nullopt, "records"},
+            fmt::format("no rawlog entry from its {} CARMEN records ({} ODOM, {} TRUEPOS, no "
+                        "laser scan{}): not a robot log in this layout",
+                        s.records(), s.odom, s.truepos,
+                        carmen_->layout() == RawlogLayout::kActionsSensoryFrames
+                            ? "; odometry alone gives entries only in layout #2"
+                            : ""));
+      }
     }
   }
   if (e) ++entries_;

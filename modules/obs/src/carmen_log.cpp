@@ -1,5 +1,6 @@
 #include "rove/obs/carmen_log.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -291,7 +292,10 @@ struct CarmenLogReader::Impl {
     const std::string_view t = tokens[2];
     double v = 0.0;
     const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (ec != std::errc() || ptr != t.data() + t.size() || !std::isfinite(v) || !(v > 0.0) ||
+    // The range is kept as a float: a value that rounds to 0 there (below
+    // 1.4e-45 m) would turn every later reading into "no return".
+    if (ec != std::errc() || ptr != t.data() + t.size() || !std::isfinite(v) ||
+        !(static_cast<float>(std::min(v, 1.0)) > 0.0f) ||
         v > static_cast<double>(std::numeric_limits<float>::max())) {
       throw LineProblem{field, "not a positive range in meters: '" + std::string(t) + "'"};
     }

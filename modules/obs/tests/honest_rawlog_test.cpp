@@ -124,6 +124,33 @@ TEST(AnyRawlogFormat, CarmenLogWithoutRecordsIsAnError_Regression) {
   }
 }
 
+// Found by rove_any_rawlog_fuzz: a CARMEN log of ODOM lines only read as an
+// empty rawlog in layout #1 (odometry only goes between two scans), though a
+// log without records was already an error.
+TEST(AnyRawlogFormat, CarmenLogWithoutEntriesIsAnError_Regression) {
+  TempDir tmp("noentries");
+  const std::string file = tmp.write(
+      "odom.clf", "PARAM robot_front_laser_max 50.0 nohost 0\n"
+                  "ODOM 0.0 0.0 0.0 0.0 0.0 0.0 1.0 host 1.0\n"
+                  "TRUEPOS 0 0 0 0 0 0 2.0 host 2.0\n");
+  AnyRawlogReader reader(file);
+  EXPECT_EQ(reader.format(), RawlogFormat::kCarmen);
+  try {
+    while (reader.next()) {
+    }
+    ADD_FAILURE() << "ODOM and TRUEPOS lines read as an empty rawlog";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.location().source, file);
+    EXPECT_EQ(e.location().field, "records");
+    EXPECT_NE(std::string(e.what()).find("1 ODOM, 1 TRUEPOS"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load_any_rawlog(file), ParseError);
+  // In layout #2 the ODOM line is an odometry observation: one entry.
+  AnyRawlogOptions o;
+  o.carmen.layout = RawlogLayout::kObservations;
+  EXPECT_EQ(load_any_rawlog(file, o).entries.size(), 1u);
+}
+
 TEST(AnyRawlogFormat, DevicesAndFoldersAreRefused_Regression) {
   EXPECT_THROW(detect_rawlog_format("/dev/zero"), IoError);
   EXPECT_THROW(AnyRawlogReader("/dev/null"), IoError);
@@ -292,6 +319,25 @@ TEST(CarmenMaxRange, SkippedBadParamIsCountedOnce) {
   EXPECT_EQ(s.flaser, 1u);
   EXPECT_FLOAT_EQ(s.front_max_range, 81.0f);
   EXPECT_FALSE(s.front_max_range_from_log);
+}
+
+// A PARAM range too small for a float (1e-50 m) became a 0 m maximum, which
+// made every reading of every later scan "no return" without a word.
+TEST(CarmenMaxRange, ParamRangeThatRoundsToZeroIsRefused_Regression) {
+  for (const char* value : {"1e-50", "1e-46"}) {
+    try {
+      scans_of(std::string("PARAM robot_front_laser_max ") + value + " nohost 0\n" + kScanLine);
+      ADD_FAILURE() << "PARAM range " << value << " accepted";
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.location().line, 1u);
+      EXPECT_EQ(e.location().field, "PARAM robot_front_laser_max");
+    }
+  }
+  // The smallest float above zero is still a (tiny) range.
+  const auto scans = scans_of(std::string("PARAM robot_rear_laser_max 1e-44 nohost 0\n") +
+                              "RLASER 1 1.00 0 0 0 0 0 0 1.0 host 1.0\n");
+  ASSERT_EQ(scans.size(), 1u);
+  EXPECT_GT(scans[0].max_range, 0.0f);
 }
 
 // ACES: readings of exactly 50.00 m mean "no return" (11,139 of them); with

@@ -10,7 +10,9 @@
 /// text is not a log); binary data starting with an MRPT object header
 /// (0x80 | name length, or an old-style u32 length below 128, then a
 /// printable class name) → MRPT rawlog; anything else is an error. A CARMEN
-/// log that ends without a single record is an error too, never an empty log.
+/// log that ends without a single record, or whose records give no entry
+/// (ODOM or TRUEPOS lines without a laser scan in layout #1), is an error
+/// too, never an empty log.
 
 #include <cstdint>
 #include <memory>
@@ -64,8 +66,8 @@ class AnyRawlogReader {
 
   /// The next entry, or std::nullopt at the end; errors as the format's
   /// reader (ParseError naming the file, the byte offset or line, and the
-  /// class or field). A CARMEN log that ends without any record is a
-  /// ParseError (field "records").
+  /// class or field). A CARMEN log that ends without any record, or
+  /// without any entry from its records, is a ParseError (field "records").
   std::optional<RawlogEntry> next();
 
   /// The detected format.
