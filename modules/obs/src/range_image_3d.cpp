@@ -141,6 +141,7 @@ void load(InArchive& ar, RangeImagePoints& p) {
 }
 
 void RangeImage3D::load_payload(InArchive& ar, std::uint8_t version) {
+  const std::uint64_t start = ar.offset();
   load_header(ar);
   load(ar, depth);
   range_is_depth = ar.read_scalar<bool>("range_is_depth");
@@ -164,6 +165,10 @@ void RangeImage3D::load_payload(InArchive& ar, std::uint8_t version) {
     std_error_m = ar.read_scalar<double>("std_error");
     load(ar, other_depth_layers);
   }
+  // Each part reads on its own; with a depth image they must agree (image
+  // sizes, camera, a positive maximum range). One without a depth image
+  // (e.g. default-constructed, camera unset) is stored as it was written.
+  if (depth.pixel_count() > 0) detail::parse_guard(ar, start, kClassName, [&] { check(); });
 }
 
 std::unique_ptr<Observation> RangeImage3D::clone() const {

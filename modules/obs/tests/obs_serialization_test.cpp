@@ -292,6 +292,30 @@ TEST(ObsSerialization, NonRotationSensorPoseIsAParseError) {
   EXPECT_THROW((void)read_object(ia), ParseError);
 }
 
+// Found by rove_any_rawlog_fuzz: a rove rawlog whose RangeImage3D held a
+// 4x2 depth image with a 4x40450 depth camera read without complaint; every
+// use of the observation then failed its precondition check.
+TEST(ObsSerialization, InconsistentRangeImageIsAParseError_Regression) {
+  register_obs_classes();
+  RangeImage3D camera_mismatch = sample_rgbd();
+  camera_mismatch.depth_camera.height = 40450;
+  RangeImage3D no_range = sample_rgbd();
+  no_range.max_range = 0.0;
+  for (const RangeImage3D* bad : {&camera_mismatch, &no_range}) {
+    EXPECT_THROW(bad->check(), InvalidArgument);
+    const auto bytes = write(*bad);  // saving does not check
+    MemoryInStream in(bytes, "bad_rgbd.bin");
+    InArchive ia(in);
+    try {
+      (void)read_object(ia);
+      ADD_FAILURE() << "an inconsistent RangeImage3D read back";
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.location().source, "bad_rgbd.bin");
+      EXPECT_EQ(e.location().field, "RangeImage3D");
+    }
+  }
+}
+
 TEST(ObsSerialization, CloneAndEquals) {
   const GpsObservation g = sample_gps();
   const std::unique_ptr<Observation> c = g.clone();

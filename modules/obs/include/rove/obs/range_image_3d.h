@@ -156,7 +156,9 @@ class RangeImage3D final : public Observation {
   std::uint8_t version() const override { return 2; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
-  /// Reads fields written by save_payload; ParseError on malformed data.
+  /// Reads fields written by save_payload; ParseError on malformed data,
+  /// including a depth image that fails check() (sizes that disagree with
+  /// the camera, max_range <= 0).
   void load_payload(InArchive& ar, std::uint8_t version) override;
   /// A deep copy.
   std::unique_ptr<Observation> clone() const override;
