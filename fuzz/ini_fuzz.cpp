@@ -1,6 +1,8 @@
 // libFuzzer target for rove::IniFile. Any input must either parse or be
-// rejected with a rove::Error; a parsed document must survive every getter
-// and, when to_string() can write it, read back to the same content.
+// rejected with a rove::Error; a parsed document must survive every getter,
+// its repeated sections and keys must name what the document holds, in file
+// order, and, when to_string() can write it, read back to the same content
+// without any repetition.
 
 #include <cstdint>
 #include <cstdio>
@@ -58,6 +60,19 @@ void exercise(const rove::IniFile& ini) {
   }
 }
 
+void check_duplicates(const rove::IniFile& ini) {
+  std::size_t previous = 0;
+  for (const rove::IniDuplicate& d : ini.duplicates()) {
+    const std::string where = d.section + "/" + d.key + " line " + std::to_string(d.line);
+    if (d.first_line == 0 || d.line <= d.first_line) die("repetition before its first line", where);
+    if (d.line < previous) die("repetitions out of file order", where);
+    previous = d.line;
+    if (!ini.has_section(d.section)) die("repeated section not in the document", where);
+    if (d.is_section != d.key.empty()) die("section repetition with a key, or key without", where);
+    if (!d.is_section && !ini.has(d.section, d.key)) die("repeated key not in the document", where);
+  }
+}
+
 void check_round_trip(const rove::IniFile& ini) {
   std::string text;
   try {
@@ -72,6 +87,7 @@ void check_round_trip(const rove::IniFile& ini) {
     die("to_string() output does not parse", std::string(e.what()) + "\n---\n" + text);
   }
   if (back.sections() != ini.sections()) die("sections differ after round trip", text);
+  if (!back.duplicates().empty()) die("to_string() output repeats a section or key", text);
   for (const auto& s : ini.sections()) {
     if (back.keys(s) != ini.keys(s)) die("keys differ after round trip", s);
     for (const auto& k : ini.keys(s)) {
@@ -91,6 +107,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       options.strict = strict;
       const rove::IniFile ini = rove::IniFile::parse(text, "<fuzz>", options);
       exercise(ini);
+      check_duplicates(ini);
       check_round_trip(ini);
     } catch (const rove::Error&) {
       // rejected input: the only acceptable failure
