@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "archive_helpers.h"
 #include "rove/core/check.h"
 #include "rove/serialization/eigen.h"
 #include "rove/serialization/stl.h"
@@ -98,6 +99,7 @@ void GpsObservation::save_payload(OutArchive& ar) const {
 }
 
 void GpsObservation::load_payload(InArchive& ar, std::uint8_t version) {
+  const std::uint64_t start = ar.offset();
   load_header(ar);
   latitude_deg = ar.read_scalar<double>("latitude");
   longitude_deg = ar.read_scalar<double>("longitude");
@@ -125,6 +127,8 @@ void GpsObservation::load_payload(InArchive& ar, std::uint8_t version) {
     original_received_timestamp = Timestamp::invalid();
     has_satellite_timestamp = false;
   }
+  // Latitude/longitude ranges and finite values, as MRPT's reader checks.
+  detail::parse_guard(ar, start, kClassName, [&] { check(); });
 }
 
 std::unique_ptr<Observation> GpsObservation::clone() const {

@@ -1,5 +1,6 @@
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 
 #include <gtest/gtest.h>
@@ -314,6 +315,29 @@ TEST(ObsSerialization, InconsistentRangeImageIsAParseError_Regression) {
       EXPECT_EQ(e.location().field, "RangeImage3D");
     }
   }
+}
+
+// Found while fixing the RangeImage3D case above: a stored GpsObservation
+// with a latitude of 91 degrees (or a NaN hdop) read back as if valid.
+TEST(ObsSerialization, OutOfRangeGpsIsAParseError_Regression) {
+  register_obs_classes();
+  GpsObservation bad_latitude = sample_gps();
+  bad_latitude.latitude_deg = 91.0;
+  GpsObservation nan_hdop = sample_gps();
+  nan_hdop.hdop = std::numeric_limits<double>::quiet_NaN();
+  for (const GpsObservation* bad : {&bad_latitude, &nan_hdop}) {
+    const auto bytes = write(*bad);  // saving does not check
+    MemoryInStream in(bytes, "bad_gps.bin");
+    InArchive ia(in);
+    try {
+      (void)read_object(ia);
+      ADD_FAILURE() << "an out-of-range GpsObservation read back";
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.location().source, "bad_gps.bin");
+      EXPECT_EQ(e.location().field, "GpsObservation");
+    }
+  }
+  expect_round_trip(GpsObservation{});
 }
 
 TEST(ObsSerialization, CloneAndEquals) {

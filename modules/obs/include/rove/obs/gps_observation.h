@@ -124,7 +124,8 @@ class GpsObservation final : public Observation {
   std::uint8_t version() const override { return 2; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
-  /// Reads fields written by save_payload; ParseError on malformed data.
+  /// Reads fields written by save_payload; ParseError on malformed data,
+  /// including values that fail check().
   void load_payload(InArchive& ar, std::uint8_t version) override;
   /// A deep copy.
   std::unique_ptr<Observation> clone() const override;
