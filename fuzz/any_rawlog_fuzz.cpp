@@ -72,10 +72,11 @@ rove::AnyRawlogOptions options(bool second) {
   return o;
 }
 
-void check_observation(const rove::Observation& o) {
+void check_observation(const rove::Observation& o, bool carmen) {
   // The checks throw InvalidArgument, a rove::Error: caught by the caller
-  // and turned into a failure there.
-  if (!o.timestamp.valid()) die("observation with an invalid timestamp");
+  // and turned into a failure there. MRPT and rove files may store MRPT's
+  // INVALID_TIMESTAMP; CARMEN lines always carry a time.
+  if (carmen && !o.timestamp.valid()) die("CARMEN observation with an invalid timestamp");
   if (const auto* s = dynamic_cast<const rove::RangeScan2D*>(&o)) s->check();
   // A range image without depth (its camera may be unset) is stored as
   // written; one with depth must pass its check.
@@ -89,16 +90,16 @@ void check_observation(const rove::Observation& o) {
   if (o.clone() == nullptr) die("clone returned null");
 }
 
-void check_entry(const rove::RawlogEntry& e) {
+void check_entry(const rove::RawlogEntry& e, bool carmen) {
   if (const auto* sf = std::get_if<std::shared_ptr<const rove::SensoryFrame>>(&e)) {
     if (*sf == nullptr) die("null sensory frame");
     for (const auto& o : (*sf)->observations) {
       if (o == nullptr) die("null observation in a sensory frame");
-      check_observation(*o);
+      check_observation(*o, carmen);
     }
   } else if (const auto* ob = std::get_if<std::shared_ptr<const rove::Observation>>(&e)) {
     if (*ob == nullptr) die("null observation entry");
-    check_observation(**ob);
+    check_observation(**ob, carmen);
   } else {
     const auto& ac = std::get<std::shared_ptr<const rove::ActionCollection>>(e);
     if (ac == nullptr) die("null action collection");
@@ -143,7 +144,7 @@ void run(bool second) {
   try {
     while (auto e = reader->next()) {
       try {
-        check_entry(*e);
+        check_entry(*e, reader->format() == rove::RawlogFormat::kCarmen);
       } catch (const rove::Error& err) {
         std::fprintf(stderr, "%s\n", err.what());
         die("an accepted entry fails its check()");
