@@ -724,6 +724,15 @@ GraphOptimizerResult Engine<PoseT>::run() {
       result.timing.factorize += phase.lap();
     }
 
+    if (!delta.allFinite()) {
+      // A finite but huge measurement (1e88 m) can overflow the dogleg
+      // combination of the steps; stop honestly instead of applying NaN.
+      rec.chi2 = chi2_;
+      result.history.push_back(rec);
+      result.termination = GraphTermination::NumericalFailure;
+      result.message = "the step is not finite (measurements or states too large to solve)";
+      break;
+    }
     rec.step_norm = delta.norm();
     const double x_norm = translation_norm();
     if (rec.step_norm <= options_.step_tolerance * (x_norm + options_.step_tolerance)) {

@@ -300,6 +300,33 @@ TEST(Optimizer, TwoOptimizationsAtOnceMatchSerialRuns) {
   }
 }
 
+// Found by rove_graph_fuzz: an EDGE3 whose x was 4.4e88 m (finite, so it
+// loads) gave a NaN step, and optimize() threw from SE3::exp instead of
+// returning a result.
+TEST(Optimizer, HugeMeasurementEndsAsNumericalFailure_Regression) {
+  // The fuzzer's input (fuzz/corpus/graph/regression_huge_edge3_nan_step.graph):
+  // edge 1-3 measures 4.4e88 m along x and has no information in x until
+  // the nearest-psd repair gives it some.
+  const std::string text =
+      "EDGE3 0 1 3.341895 -0.0416997 0.0330394 -0.00305941 0.00822248 0.1802 10 0 0 0 0 0 10 1 "
+      "0 0 0 10 0 0 0 100 0 0 100 0 25\n"
+      "EDGE3 0 2 0.229005 0.138346 -0.0985239 -0.00165533 0.0168837 0.111357 10 0 0 0 0 0 10 0 "
+      "0 0 0 10 0 0 0 100 0 0 100 0 25\n"
+      "EDGE3 1 3 " + std::string(89, '4') + "0.334845 -0.100952 -0.235999 -0.00238046 "
+      "-0.00487134 0.1218041 0 0 0 0 0 0 10 0 0 0 0 10 0 0 0 100 0 0 100 0 25\n"
+      "EDGE3 3 4 0.160394 0.0789167 -0.144281 0.00735169 -5.00329e-05 0.153437 10 0 0 0 0 0 10 "
+      "0 0 0 0 10 0 0 0 100 0 0 100 0 25\n";
+  GraphReadOptions repair;  // the information of edge 1-3 needs the repair
+  repair.repair_information = InformationRepair::NearestPsd;
+  PoseGraph3D g = parse_graph_3d(text, "huge.graph", repair);
+  GraphOptimizerOptions o;
+  o.max_iterations = 5;
+  GraphOptimizerResult r;
+  ASSERT_NO_THROW(r = optimize(g, o));
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.termination, GraphTermination::NumericalFailure) << r.message;
+}
+
 TEST(Optimizer, OptimizeLeavesTheBlasEnvironmentAlone) {
   // Choosing OpenBLAS's kernels is configure_blas_for_this_cpu()'s job,
   // asked for by the program; optimize() never calls setenv.
