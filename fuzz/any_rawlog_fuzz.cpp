@@ -164,8 +164,8 @@ void run(bool second) {
   }
   say("read: ", std::string(rove::to_string(reader->format())) + ", " +
                     std::to_string(reader->entries_read()) + " entries");
-  // A valid log writes out as a rove rawlog (the writer checks every
-  // object's preconditions again).
+  // A valid log writes out as a rove rawlog (the writer refuses entries
+  // its layout excludes and values it cannot store).
   try {
     rove::RoveRawlogWriterOptions wo;
     wo.layout = kept.empty() ? rove::RawlogLayout::kActionsSensoryFrames : rove::layout_of(kept);
