@@ -176,25 +176,25 @@ int run(Graph g, const GraphSlamArgs& a, const Loaded& l, int threads) {
                                   o.max_iterations, r.final_chi2)});
   } else if (r.termination == GraphTermination::NoProgress) {
     issues.push_back({"no-progress", fmt::format("stopped without converging: {}", r.message)});
-  } else if (!r.ok()) {
+  } else if (!r.improved()) {
     issues.push_back({std::string(to_string(r.termination)), r.message});
     for (const auto& is : r.issues) issues.push_back({"graph", is.message});
   }
 
   double write_s = 0.0;
-  if (r.ok() && !a.output.empty()) {
+  if (r.improved() && !a.output.empty()) {
     write_graph(g, a.output);
     write_s = sw.lap();
   }
   bool plotted = false;
   if constexpr (std::is_same_v<Graph, PoseGraph2D>) {
-    if (r.ok() && initial) {
+    if (r.improved() && initial) {
       write_graph_plot(*initial, g, a.plot);
       plotted = true;
     }
   }
   std::optional<AlignedPositionError> gt;
-  if (!a.ground_truth.empty() && r.ok()) {
+  if (!a.ground_truth.empty() && r.improved()) {
     Graph truth;
     if constexpr (std::is_same_v<Graph, PoseGraph2D>) {
       truth = read_graph_2d(a.ground_truth, l.read_options);
@@ -258,7 +258,7 @@ int run(Graph g, const GraphSlamArgs& a, const Loaded& l, int threads) {
     j.key("ground_truth_rmse");
     if (gt) j.value(gt->rmse); else j.null();
     j.key("output");
-    if (r.ok() && !a.output.empty()) j.value(a.output); else j.null();
+    if (r.improved() && !a.output.empty()) j.value(a.output); else j.null();
     j.key("plot");
     if (plotted) j.value(a.plot); else j.null();
     j.key("problems").begin_array();
@@ -303,7 +303,7 @@ int run(Graph g, const GraphSlamArgs& a, const Loaded& l, int threads) {
       fmt::print("ground truth   position RMSE {:.6g} m, max {:.6g} m after alignment ({} vertices)\n",
                  gt->rmse, gt->max, gt->matched);
     }
-    if (r.ok() && !a.output.empty()) fmt::print("output         {}\n", printable(a.output));
+    if (r.improved() && !a.output.empty()) fmt::print("output         {}\n", printable(a.output));
     if (plotted) fmt::print("plot           {}\n", printable(a.plot));
     if (issues.empty()) fmt::print("issues         none\n");
     for (std::size_t k = 0; k < issues.size(); ++k) {
@@ -311,7 +311,7 @@ int run(Graph g, const GraphSlamArgs& a, const Loaded& l, int threads) {
                  issues[k].message);
     }
   }
-  if (!r.ok()) {
+  if (!r.improved()) {
     fmt::print(stderr, "rove: graph-slam failed ({}): {}\n", to_string(r.termination), r.message);
     for (const auto& is : r.issues) fmt::print(stderr, "  {}\n", is.message);
     fmt::print(stderr, "rove: nothing was written\n");

@@ -150,9 +150,13 @@ struct GraphOptimizerResult {
   std::size_t hessian_nonzeros = 0;     ///< stored entries of the upper triangle
   std::size_t factor_nonzeros = 0;      ///< entries of the Cholesky factor
 
-  /// True when the returned poses are an optimum or an improvement
-  /// (Converged, MaxIterations, NoProgress).
-  bool ok() const {
+  /// True only when the optimization converged (GraphTermination::Converged),
+  /// as ok() means for every rove result (registration included).
+  bool ok() const noexcept { return termination == GraphTermination::Converged; }
+  /// True when the returned poses are an optimum or at least an improvement
+  /// on the start (Converged, MaxIterations, NoProgress): worth writing out,
+  /// with the termination reported as an issue when not Converged.
+  bool improved() const noexcept {
     return termination == GraphTermination::Converged ||
            termination == GraphTermination::MaxIterations ||
            termination == GraphTermination::NoProgress;
