@@ -41,24 +41,7 @@ set_tests_properties(cli.align_plane_degenerate PROPERTIES LABELS cli
 # --- Honest results, safe outputs, good defaults (issue 18: 1, 8, 9, 12, 15) --
 set(rove_align_dir ${CMAKE_CURRENT_BINARY_DIR}/align_tests)
 file(MAKE_DIRECTORY ${rove_align_dir})
-# expect_exit: COMMAND must exit with EXIT and print REGEX on stdout+stderr;
-# FILE_REGEX (optional) must match the content of FILE; KEEP must equal REF.
-file(WRITE ${rove_align_dir}/expect_exit.cmake [=[
-separate_arguments(cmd UNIX_COMMAND "${COMMAND}")
-execute_process(COMMAND ${cmd} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL "${EXIT}")
-  message(FATAL_ERROR "expected exit code ${EXIT}, got ${rc}:\n${out}${err}")
-endif()
-if(NOT "${out}${err}" MATCHES "${REGEX}")
-  message(FATAL_ERROR "output does not match '${REGEX}':\n${out}${err}")
-endif()
-if(DEFINED KEEP)
-  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${KEEP}" "${REF}" RESULT_VARIABLE diff)
-  if(NOT diff EQUAL 0)
-    message(FATAL_ERROR "${KEEP} was changed")
-  endif()
-endif()
-]=])
+# tests/scripts/expect_exit.cmake: exit code, output, files kept or absent.
 
 # Item 15: with no option the outdoor pair is down-sampled (auto voxel,
 # printed) and lands on the published transform (0.4889 0.1212 -0.0253).
@@ -66,7 +49,7 @@ add_test(NAME cli.align_defaults_small_gicp COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> align ${rove_align_data}/small_gicp_source.ply ${rove_align_data}/small_gicp_target.ply"
   -DEXIT=0
   "-DREGEX=T_target_source:\n[^\n]* 0\\.4[89][0-9]*\n[^\n]* 0\\.1[12][0-9]*\n[^\n]*-0\\.0[23][0-9]*\n.*voxel: 0\\.25,0\\.1 m \\(auto.*termination: Converged.*issues: none"
-  -P ${rove_align_dir}/expect_exit.cmake)
+  -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 set_tests_properties(cli.align_defaults_small_gicp PROPERTIES LABELS cli)
 rove_dataset_tests(cli.align_defaults_small_gicp)
 
@@ -74,7 +57,7 @@ rove_dataset_tests(cli.align_defaults_small_gicp)
 add_test(NAME cli.align_help_shows_defaults COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> align --help" -DEXIT=0
   "-DREGEX=--method[^\n]*=gicp.*--voxel[^\n]*=auto.*--distance-factor[^\n]*=3.*--neighbors[^\n]*=10.*--max-distance[^\n]*=1.*--resolution[^\n]*=1.*--max-iterations[^\n]*=0.*--threads[^\n]*=1.*--output[^\n]*default none"
-  -P ${rove_align_dir}/expect_exit.cmake)
+  -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 set_tests_properties(cli.align_help_shows_defaults PROPERTIES LABELS cli)
 
 # Item 1 (stand-in for the car pair): a floor and a wall, the source tilted
@@ -106,14 +89,14 @@ file(WRITE ${rove_align_dir}/floor_wall.ply
 add_test(NAME cli.align_gicp_stall_is_not_converged COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> align --json --voxel 0.25 --max-distance 0.75 --init 0,0,0,-0.5235987755982988,0,0 ${rove_align_dir}/floor_wall.ply ${rove_align_dir}/floor_wall.ply"
   -DEXIT=3 "-DREGEX=\"termination\": \"Stalled\".*\"converged\": false.*\"issues\": \\[[^]]*\"code\": \"stalled\""
-  -P ${rove_align_dir}/expect_exit.cmake)
+  -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 set_tests_properties(cli.align_gicp_stall_is_not_converged PROPERTIES LABELS cli)
 
 # Item 9: an absurd thread count is refused by name, not started.
 add_test(NAME cli.align_threads_capped COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> align --threads 100000 ${rove_align_dir}/floor_wall.ply ${rove_align_dir}/floor_wall.ply"
   -DEXIT=1 "-DREGEX=--threads = 100000: use 1 to 256 threads"
-  -P ${rove_align_dir}/expect_exit.cmake)
+  -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 set_tests_properties(cli.align_threads_capped PROPERTIES LABELS cli)
 
 # Item 8: -o equal to an input is refused and the input is left intact.
@@ -121,11 +104,11 @@ configure_file(${rove_align_dir}/floor_wall.ply ${rove_align_dir}/floor_wall_ref
 add_test(NAME cli.align_output_over_input_refused COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> align ${rove_align_dir}/floor_wall.ply ${rove_align_dir}/floor_wall.ply -o ${rove_align_dir}/floor_wall.ply"
   -DEXIT=1 "-DREGEX=floor_wall.ply" -DKEEP=${rove_align_dir}/floor_wall.ply
-  -DREF=${rove_align_dir}/floor_wall_ref.ply -P ${rove_align_dir}/expect_exit.cmake)
+  -DREF=${rove_align_dir}/floor_wall_ref.ply -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 set_tests_properties(cli.align_output_over_input_refused PROPERTIES LABELS cli)
 
 # Item 12: a directory or a device as input is named in the error.
 add_test(NAME cli.align_directory_input_refused COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> align ${rove_align_dir} ${rove_align_dir}/floor_wall.ply"
-  -DEXIT=1 "-DREGEX=align_tests.*(directory|regular)" -P ${rove_align_dir}/expect_exit.cmake)
+  -DEXIT=1 "-DREGEX=align_tests.*(directory|regular)" -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 set_tests_properties(cli.align_directory_input_refused PROPERTIES LABELS cli)

@@ -28,30 +28,7 @@ set(rove_icp_dir ${CMAKE_CURRENT_BINARY_DIR}/icp_slam_tests)
 file(MAKE_DIRECTORY ${rove_icp_dir})
 set(rove_icp_telecom
   ${PROJECT_SOURCE_DIR}/data/mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog)
-# expect_exit: COMMAND must exit with EXIT and print REGEX on stdout+stderr;
-# FILE_REGEX (optional) must match the content of FILE; KEEP must equal REF.
-file(WRITE ${rove_icp_dir}/expect_exit.cmake [=[
-separate_arguments(cmd UNIX_COMMAND "${COMMAND}")
-execute_process(COMMAND ${cmd} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL "${EXIT}")
-  message(FATAL_ERROR "expected exit code ${EXIT}, got ${rc}:\n${out}${err}")
-endif()
-if(NOT "${out}${err}" MATCHES "${REGEX}")
-  message(FATAL_ERROR "output does not match '${REGEX}':\n${out}${err}")
-endif()
-if(DEFINED FILE)
-  file(READ "${FILE}" text)
-  if(NOT text MATCHES "${FILE_REGEX}")
-    message(FATAL_ERROR "${FILE} does not match '${FILE_REGEX}':\n${text}")
-  endif()
-endif()
-if(DEFINED KEEP)
-  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${KEEP}" "${REF}" RESULT_VARIABLE diff)
-  if(NOT diff EQUAL 0)
-    message(FATAL_ERROR "${KEEP} was changed")
-  endif()
-endif()
-]=])
+# tests/scripts/expect_exit.cmake: exit code, output, files kept or absent.
 
 # Stand-in for Freiburg's clinic log (0 of 6,915 ICP results accepted): the
 # Telecom log with a goodness threshold no result can pass. The run ends,
@@ -65,24 +42,24 @@ add_test(NAME cli.icp_slam_no_icp_accepted COMMAND ${CMAKE_COMMAND}
   -DEXIT=3 "-DREGEX=ICP: [0-9]+ runs, 0 accepted.*rove: warning: no-icp-accepted: none of [0-9]+ ICP results"
   -DFILE=${rove_icp_dir}/impossible/summary.json
   "-DFILE_REGEX=\"icp_accepted\": 0,.*\"issues\": \\[[^]]*\"code\": \"no-icp-accepted\""
-  -P ${rove_icp_dir}/expect_exit.cmake)
+  -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 # The demo accepts most of its ICP results: no issue, exit 0.
 add_test(NAME cli.icp_slam_demo_no_issues COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> icp-slam --no-progress --max-steps 60 -o ${rove_icp_dir}/demo"
   -DEXIT=0 "-DREGEX=issues: none" -DFILE=${rove_icp_dir}/demo/summary.json
-  "-DFILE_REGEX=\"issues\": \\[\\]" -P ${rove_icp_dir}/expect_exit.cmake)
+  "-DFILE_REGEX=\"issues\": \\[\\]" -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 
 # A text file is not a log; a log without scans has nothing to map.
 file(WRITE ${rove_icp_dir}/hello.txt "hello world\n")
 add_test(NAME cli.icp_slam_text_is_not_a_log COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> icp-slam --no-progress ${PROJECT_SOURCE_DIR}/data/mrpt/icp-slam_demo_classic.ini ${rove_icp_dir}/hello.txt -o ${rove_icp_dir}/hello"
   -DEXIT=1 "-DREGEX=hello.txt.*not a rove rawlog, MRPT rawlog or CARMEN log"
-  -P ${rove_icp_dir}/expect_exit.cmake)
+  -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 file(WRITE ${rove_icp_dir}/odom_only.clf
   "ODOM 0 0 0 0 0 0 1.0 host 1.0\nODOM 0.5 0 0 0 0 0 2.0 host 2.0\n")
 add_test(NAME cli.icp_slam_log_without_scans COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> icp-slam --no-progress ${PROJECT_SOURCE_DIR}/data/mrpt/icp-slam_demo_classic.ini ${rove_icp_dir}/odom_only.clf -o ${rove_icp_dir}/odom_only"
-  -DEXIT=1 "-DREGEX=odom_only.clf.*no rawlog entry from its 2 CARMEN records" -P ${rove_icp_dir}/expect_exit.cmake)
+  -DEXIT=1 "-DREGEX=odom_only.clf.*no rawlog entry from its 2 CARMEN records" -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 
 # An output in -o that is one of the inputs is refused before the run.
 file(MAKE_DIRECTORY ${rove_icp_dir}/same)
@@ -91,7 +68,7 @@ configure_file(${PROJECT_SOURCE_DIR}/data/mrpt/icp-slam_demo_classic.ini
 add_test(NAME cli.icp_slam_output_is_input COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> icp-slam --no-progress ${rove_icp_dir}/same/summary.json ${rove_icp_telecom} -o ${rove_icp_dir}/same"
   -DEXIT=1 "-DREGEX=refusing to write over the input" -DKEEP=${rove_icp_dir}/same/summary.json
-  -DREF=${PROJECT_SOURCE_DIR}/data/mrpt/icp-slam_demo_classic.ini -P ${rove_icp_dir}/expect_exit.cmake)
+  -DREF=${PROJECT_SOURCE_DIR}/data/mrpt/icp-slam_demo_classic.ini -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 
 set_tests_properties(cli.icp_slam_no_icp_accepted cli.icp_slam_demo_no_issues
   cli.icp_slam_text_is_not_a_log cli.icp_slam_log_without_scans cli.icp_slam_output_is_input

@@ -120,27 +120,7 @@ set_tests_properties(cli.rawlog_corrupt_carmen PROPERTIES LABELS cli)
 
 # --- Honest input and outputs (issue 18: items 6, 7, 8) ---------------------
 
-# expect_exit: COMMAND must exit with EXIT and print REGEX on stdout+stderr;
-# with KEEP (a file) and REF, KEEP must still equal REF afterwards.
-file(WRITE ${rove_rawlog_dir}/expect_exit.cmake [=[
-separate_arguments(cmd UNIX_COMMAND "${COMMAND}")
-execute_process(COMMAND ${cmd} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL "${EXIT}")
-  message(FATAL_ERROR "expected exit code ${EXIT}, got ${rc}:\n${out}${err}")
-endif()
-if(NOT "${out}${err}" MATCHES "${REGEX}")
-  message(FATAL_ERROR "output does not match '${REGEX}':\n${out}${err}")
-endif()
-if(DEFINED KEEP)
-  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${KEEP}" "${REF}" RESULT_VARIABLE diff)
-  if(NOT diff EQUAL 0)
-    message(FATAL_ERROR "${KEEP} was changed")
-  endif()
-endif()
-if(DEFINED ABSENT AND EXISTS "${ABSENT}")
-  message(FATAL_ERROR "${ABSENT} was written")
-endif()
-]=])
+# tests/scripts/expect_exit.cmake: exit code, output, files kept or absent.
 
 # Text that is not a robot log (a greeting, a pose graph) is refused by name,
 # never read as an empty CARMEN log.
@@ -149,20 +129,20 @@ file(WRITE ${rove_rawlog_dir}/graph.g2o "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\
 add_test(NAME cli.rawlog_text_is_not_a_log COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rawlog info --no-progress ${rove_rawlog_dir}/hello.txt" -DEXIT=1
   "-DREGEX=hello.txt.*not a rove rawlog, MRPT rawlog or CARMEN log"
-  -P ${rove_rawlog_dir}/expect_exit.cmake)
+  -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 add_test(NAME cli.rawlog_g2o_is_not_a_log COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rawlog convert --no-progress ${rove_rawlog_dir}/graph.g2o ${rove_rawlog_dir}/graph.rawlog"
   -DEXIT=1 "-DREGEX=graph.g2o.*not a rove rawlog, MRPT rawlog or CARMEN log"
-  -DABSENT=${rove_rawlog_dir}/graph.rawlog -P ${rove_rawlog_dir}/expect_exit.cmake)
+  -DABSENT=${rove_rawlog_dir}/graph.rawlog -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 # A CARMEN log with PARAM lines only has no record: an error, not an empty log.
 file(WRITE ${rove_rawlog_dir}/params_only.clf "# CARMEN Logfile\nPARAM robot_use_laser on nohost 0\n")
 add_test(NAME cli.rawlog_carmen_without_records COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rawlog info --no-progress ${rove_rawlog_dir}/params_only.clf" -DEXIT=1
-  "-DREGEX=params_only.clf:2 \\[records\\]: no CARMEN record" -P ${rove_rawlog_dir}/expect_exit.cmake)
+  "-DREGEX=params_only.clf:2 \\[records\\]: no CARMEN record" -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 # Devices are refused at once (reading /dev/zero never ends).
 add_test(NAME cli.rawlog_info_dev_zero COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rawlog info --no-progress /dev/zero" -DEXIT=1
-  "-DREGEX=/dev/zero.*not a regular file" -P ${rove_rawlog_dir}/expect_exit.cmake)
+  "-DREGEX=/dev/zero.*not a regular file" -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 set_tests_properties(cli.rawlog_info_dev_zero PROPERTIES TIMEOUT 20)
 
 # An output that is the input is refused and the input stays intact.
@@ -172,26 +152,26 @@ foreach(job "cut --from 3" "decimate --every 2" "convert")
   add_test(NAME cli.rawlog_${name}_output_is_input COMMAND ${CMAKE_COMMAND}
     "-DCOMMAND=$<TARGET_FILE:rove> rawlog ${job} --no-progress ${rove_rawlog_dir}/same.rawlog ${rove_rawlog_dir}/./same.rawlog"
     -DEXIT=1 "-DREGEX=refusing to write over the input" -DKEEP=${rove_rawlog_dir}/same.rawlog
-    -DREF=${rove_rawlog_sena} -P ${rove_rawlog_dir}/expect_exit.cmake)
+    -DREF=${rove_rawlog_sena} -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 endforeach()
 add_test(NAME cli.rawlog_export_scans_output_is_input COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rawlog export-scans --no-progress ${rove_rawlog_dir}/same.rawlog ${rove_rawlog_dir}/same.rawlog"
   -DEXIT=1 "-DREGEX=refusing to write over the input" -DKEEP=${rove_rawlog_dir}/same.rawlog
-  -DREF=${rove_rawlog_sena} -P ${rove_rawlog_dir}/expect_exit.cmake)
+  -DREF=${rove_rawlog_sena} -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 
 # Selections that find nothing name the flag and what the log holds.
 add_test(NAME cli.rawlog_cut_outside_the_log COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rawlog cut --no-progress --from 100000 ${rove_rawlog_sena} ${rove_rawlog_dir}/outside.rawlog"
   -DEXIT=1 "-DREGEX=--from: --from 100000 selects no entry: .*449 entries \\(indices 0..448\\)"
-  -DABSENT=${rove_rawlog_dir}/outside.rawlog -P ${rove_rawlog_dir}/expect_exit.cmake)
+  -DABSENT=${rove_rawlog_dir}/outside.rawlog -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 add_test(NAME cli.rawlog_cut_outside_the_log_time COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rawlog cut --no-progress --to-time 10 ${rove_rawlog_sena} ${rove_rawlog_dir}/outside_t.rawlog"
   -DEXIT=1 "-DREGEX=--to-time: --to-time 10.000000 selects no entry: .*times 1137834225.71"
-  -DABSENT=${rove_rawlog_dir}/outside_t.rawlog -P ${rove_rawlog_dir}/expect_exit.cmake)
+  -DABSENT=${rove_rawlog_dir}/outside_t.rawlog -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 add_test(NAME cli.rawlog_export_scans_unknown_label COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rawlog export-scans --no-progress --label NOPE ${rove_rawlog_data}/carmen_intel_head.clf ${rove_rawlog_dir}/nope.txt"
   -DEXIT=1 "-DREGEX=--label: no 2D scan has label 'NOPE' .*labels are 'LASER' \\(24\\)"
-  -DABSENT=${rove_rawlog_dir}/nope.txt -P ${rove_rawlog_dir}/expect_exit.cmake)
+  -DABSENT=${rove_rawlog_dir}/nope.txt -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 
 # CARMEN maximum range: readings at it are "no return" (invalid, 0 in the
 # validity columns of the export).
@@ -199,7 +179,7 @@ file(WRITE ${rove_rawlog_dir}/range50.clf
   "FLASER 4 1.00 50.00 49.99 60.00 0 0 0 0 0 0 1.0 host 1.0\n")
 add_test(NAME cli.rawlog_carmen_max_range COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rawlog export-scans --no-progress --max-range 50 ${rove_rawlog_dir}/range50.clf ${rove_rawlog_dir}/range50.txt"
-  -DEXIT=0 "-DREGEX=range50.txt \\(1 rows\\)" -P ${rove_rawlog_dir}/expect_exit.cmake)
+  -DEXIT=0 "-DREGEX=range50.txt \\(1 rows\\)" -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 add_test(NAME cli.rawlog_carmen_max_range_row COMMAND ${CMAKE_COMMAND}
   -DFILE=${rove_rawlog_dir}/range50.txt -DLINE=2 -DREF=${rove_rawlog_dir}/range50_ref.txt -DREF_LINE=1
   -P ${rove_rawlog_dir}/check_line.cmake)
