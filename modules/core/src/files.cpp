@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "rove/core/error.h"
+#include "utf8.h"
 
 namespace fs = std::filesystem;
 
@@ -94,24 +95,10 @@ std::string printable(std::string_view text) {
   std::size_t i = 0;
   while (i < text.size()) {
     const auto c = static_cast<unsigned char>(text[i]);
-    // Length of a well-formed UTF-8 sequence starting here (0 if malformed).
-    std::size_t len = 0;
-    if (c >= 0x20 && c < 0x7f) len = 1;
-    else if (c >= 0xc2 && c <= 0xdf) len = 2;
-    else if (c >= 0xe0 && c <= 0xef) len = 3;
-    else if (c >= 0xf0 && c <= 0xf4) len = 4;
-    bool ok = len > 0 && i + len <= text.size();
-    for (std::size_t k = 1; ok && k < len; ++k) {
-      ok = (static_cast<unsigned char>(text[i + k]) & 0xc0) == 0x80;
-    }
-    if (ok && len == 3) {
-      const auto c1 = static_cast<unsigned char>(text[i + 1]);
-      ok = !(c == 0xe0 && c1 < 0xa0) && !(c == 0xed && c1 >= 0xa0);
-    }
-    if (ok && len == 4) {
-      const auto c1 = static_cast<unsigned char>(text[i + 1]);
-      ok = !(c == 0xf0 && c1 < 0x90) && !(c == 0xf4 && c1 >= 0x90);
-    }
+    // Printable ASCII or a well-formed multi-byte sequence is kept as is.
+    const std::size_t len = c < 0x80 ? (c >= 0x20 && c < 0x7f ? 1 : 0)
+                                     : detail::utf8_sequence_length(text, i);
+    const bool ok = len > 0;
     if (ok) {
       out.append(text.substr(i, len));
       i += len;

@@ -5,33 +5,9 @@
 #include <cmath>
 
 #include "rove/core/error.h"
+#include "utf8.h"
 
 namespace rove {
-namespace {
-
-// Length of the well-formed UTF-8 sequence at text[i], or 0.
-std::size_t utf8_length(std::string_view text, std::size_t i) {
-  const auto c = static_cast<unsigned char>(text[i]);
-  std::size_t len = 0;
-  if (c < 0x80) return 1;
-  if (c >= 0xc2 && c <= 0xdf) len = 2;
-  else if (c >= 0xe0 && c <= 0xef) len = 3;
-  else if (c >= 0xf0 && c <= 0xf4) len = 4;
-  else return 0;
-  if (i + len > text.size()) return 0;
-  for (std::size_t k = 1; k < len; ++k) {
-    if ((static_cast<unsigned char>(text[i + k]) & 0xc0) != 0x80) return 0;
-  }
-  const auto c1 = static_cast<unsigned char>(text[i + 1]);
-  if (c == 0xe0 && c1 < 0xa0) return 0;   // overlong
-  if (c == 0xed && c1 >= 0xa0) return 0;  // surrogates
-  if (c == 0xf0 && c1 < 0x90) return 0;   // overlong
-  if (c == 0xf4 && c1 >= 0x90) return 0;  // above U+10FFFF
-  return len;
-}
-
-}  // namespace
-
 std::string json_quote(std::string_view text) {
   std::string out;
   out.reserve(text.size() + 2);
@@ -39,7 +15,7 @@ std::string json_quote(std::string_view text) {
   std::size_t i = 0;
   while (i < text.size()) {
     const char ch = text[i];
-    const std::size_t len = utf8_length(text, i);
+    const std::size_t len = detail::utf8_sequence_length(text, i);
     if (len == 0) {
       out += "\ufffd";
       ++i;
