@@ -1,0 +1,102 @@
+#include "rove/bayes/kld_sampling.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rove/bayes/distributions.h"
+#include "rove/bayes/random.h"
+#include "rove/core/check.h"
+#include "rove/core/error.h"
+
+namespace rove {
+
+void KldOptions::check() const {
+  ROVE_CHECK_MSG(std::isfinite(bin_size_xy) && bin_size_xy > 0.0,
+                 "KLD_binSize_XY must be finite and > 0, got {}", bin_size_xy);
+  ROVE_CHECK_MSG(std::isfinite(bin_size_phi) && bin_size_phi > 0.0,
+                 "KLD_binSize_PHI must be finite and > 0, got {} rad", bin_size_phi);
+  ROVE_CHECK_MSG(delta > 0.0 && delta < 1.0, "KLD_delta must be in (0, 1), got {}", delta);
+  ROVE_CHECK_MSG(std::isfinite(epsilon) && epsilon > 0.0,
+                 "KLD_epsilon must be finite and > 0, got {}", epsilon);
+  ROVE_CHECK_MSG(min_sample_size >= 1, "KLD_minSampleSize must be >= 1, got {}", min_sample_size);
+  ROVE_CHECK_MSG(max_sample_size >= min_sample_size,
+                 "KLD_maxSampleSize ({}) must be >= KLD_minSampleSize ({})", max_sample_size,
+                 min_sample_size);
+  ROVE_CHECK_MSG(std::isfinite(min_samples_per_bin) && min_samples_per_bin >= 0.0,
+                 "KLD_minSamplesPerBin must be finite and >= 0, got {}", min_samples_per_bin);
+}
+
+KldOptions KldOptions::from_ini(const IniFile& ini, std::string_view section,
+                                std::vector<std::string>* unknown_keys,
+                                std::vector<std::string>* ignored_keys) {
+  KldOptions o;
+  const std::string s(section);
+  o.bin_size_xy = ini.get_or<double>(s, "KLD_binSize_XY", o.bin_size_xy);
+  o.bin_size_phi = ini.get_or<double>(s, "KLD_binSize_PHI", o.bin_size_phi * 180.0 / std::numbers::pi) *
+                   std::numbers::pi / 180.0;
+  o.delta = ini.get_or<double>(s, "KLD_delta", o.delta);
+  o.epsilon = ini.get_or<double>(s, "KLD_epsilon", o.epsilon);
+  o.min_sample_size = ini.get_or<unsigned>(s, "KLD_minSampleSize", o.min_sample_size);
+  o.max_sample_size = ini.get_or<unsigned>(s, "KLD_maxSampleSize", o.max_sample_size);
+  o.min_samples_per_bin = ini.get_or<double>(s, "KLD_minSamplesPerBin", o.min_samples_per_bin);
+  if (ini.has(s, "KLD_binSize_PHI_deg")) {
+    (void)ini.raw(s, "KLD_binSize_PHI_deg");  // counts as read: known, without effect
+    if (ignored_keys) ignored_keys->push_back("KLD_binSize_PHI_deg");
+  }
+  const auto unread = ini.unread_keys(s);
+  if (unknown_keys) {
+    *unknown_keys = unread;
+  } else if (!unread.empty()) {
+    throw ConfigError(ini.source(), s, unread.front(), "unknown KLD option");
+  }
+  try {
+    o.check();
+  } catch (const InvalidArgument& e) {
+    throw ConfigError(ini.source(), s, "", e.message());
+  }
+  return o;
+}
+
+double kld_bound(std::size_t occupied_bins, const KldOptions& options) {
+  options.check();
+  if (occupied_bins <= 1) return 0.0;
+  const double dof = static_cast<double>(occupied_bins - 1);
+  return chi_square_quantile_wilson_hilferty(1.0 - options.delta, dof) / (2.0 * options.epsilon);
+}
+
+std::size_t kld_target_count(std::size_t occupied_bins, std::size_t previous_bins,
+                             const KldOptions& options) {
+  const double bound = kld_bound(occupied_bins, options);
+  const double per_bin = std::round(options.min_samples_per_bin * static_cast<double>(previous_bins));
+  const double lo = std::max(static_cast<double>(options.min_sample_size), per_bin);
+  const double target = std::min(std::max(std::round(bound), lo),
+                                 static_cast<double>(options.max_sample_size));
+  return static_cast<std::size_t>(target);
+}
+
+namespace {
+std::int64_t bin_index(double v, double size, const char* what) {
+  ROVE_CHECK_MSG(std::isfinite(v), "KLD bin of a non-finite {}: {}", what, v);
+  // Clamped so that absurd coordinates still give a valid (shared) bin.
+  constexpr double kLimit = 4.0e18;
+  return static_cast<std::int64_t>(std::clamp(std::round(v / size), -kLimit, kLimit));
+}
+}  // namespace
+
+KldBin kld_bin(double x, double y, double phi, const KldOptions& options) {
+  return {bin_index(x, options.bin_size_xy, "x"), bin_index(y, options.bin_size_xy, "y"),
+          bin_index(phi, options.bin_size_phi, "phi")};
+}
+
+KldBin kld_bin(const SE2d& pose, const KldOptions& options) {
+  return kld_bin(pose.translation().x(), pose.translation().y(), pose.angle(), options);
+}
+
+std::size_t KldBinHash::operator()(const KldBin& b) const noexcept {
+  std::uint64_t h = splitmix64_mix(static_cast<std::uint64_t>(b.x));
+  h = splitmix64_mix(h ^ static_cast<std::uint64_t>(b.y));
+  h = splitmix64_mix(h ^ static_cast<std::uint64_t>(b.phi));
+  return static_cast<std::size_t>(h);
+}
+
+}  // namespace rove
