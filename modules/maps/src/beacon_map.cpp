@@ -134,7 +134,7 @@ PointGaussian3 Beacon::moments() const {
   throw InvalidArgument("Beacon::moments: invalid density kind");
 }
 
-BeaconMapInsertOptions BeaconMapInsertOptions::load(const ConfigSection& s) {
+BeaconMapInsertOptions BeaconMapInsertOptions::from_config(const ConfigSection& s) {
   BeaconMapInsertOptions o;
   o.insert_as_monte_carlo = s.get<bool>("insertAsMonteCarlo", o.insert_as_monte_carlo);
   o.max_elevation_deg = s.get_in_range("maxElevation_deg", o.max_elevation_deg, -90, 90);
@@ -160,7 +160,7 @@ BeaconMapInsertOptions BeaconMapInsertOptions::load(const ConfigSection& s) {
   return o;
 }
 
-BeaconMapLikelihoodOptions BeaconMapLikelihoodOptions::load(const ConfigSection& s) {
+BeaconMapLikelihoodOptions BeaconMapLikelihoodOptions::from_config(const ConfigSection& s) {
   BeaconMapLikelihoodOptions o;
   o.range_std = s.get_in_range("rangeStd", o.range_std, 1e-12, 1e9);
   return o;

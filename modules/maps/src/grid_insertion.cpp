@@ -467,7 +467,10 @@ struct Inserter {
 
 }  // namespace
 
-void GridInsertionOptions::load(const IniFile& ini, std::string_view section) {
+GridInsertionOptions GridInsertionOptions::from_config(const ConfigSection& config) {
+  GridInsertionOptions o;
+  const IniFile& ini = config.ini();
+  const std::string_view section = config.name();
   const std::string sec(section);
   const auto read_float = [&](const char* key, float& v) {
     if (ini.has(section, key)) v = ini.get<float>(section, key);
@@ -475,27 +478,27 @@ void GridInsertionOptions::load(const IniFile& ini, std::string_view section) {
   const auto read_bool = [&](const char* key, bool& v) {
     if (ini.has(section, key)) v = ini.get<bool>(section, key);
   };
-  read_float("mapAltitude", map_altitude);
-  read_float("maxDistanceInsertion", max_distance_insertion);
-  read_float("maxOccupancyUpdateCertainty", max_occupancy_update_certainty);
-  read_float("maxFreenessUpdateCertainty", max_freeness_update_certainty);
-  read_float("maxFreenessInvalidRanges", max_freeness_invalid_ranges);
-  read_bool("useMapAltitude", use_map_altitude);
-  read_bool("considerInvalidRangesAsFreeSpace", consider_invalid_ranges_as_free_space);
+  read_float("mapAltitude", o.map_altitude);
+  read_float("maxDistanceInsertion", o.max_distance_insertion);
+  read_float("maxOccupancyUpdateCertainty", o.max_occupancy_update_certainty);
+  read_float("maxFreenessUpdateCertainty", o.max_freeness_update_certainty);
+  read_float("maxFreenessInvalidRanges", o.max_freeness_invalid_ranges);
+  read_bool("useMapAltitude", o.use_map_altitude);
+  read_bool("considerInvalidRangesAsFreeSpace", o.consider_invalid_ranges_as_free_space);
   if (ini.has(section, "decimation")) {
     const int d = ini.get<int>(section, "decimation");
     if (d < 1 || d > 65535) {
       throw ConfigError(ini.source(), sec, "decimation", "must be in [1, 65535]");
     }
-    decimation = static_cast<std::uint16_t>(d);
+    o.decimation = static_cast<std::uint16_t>(d);
   }
   if (ini.has(section, "horizontalTolerance")) {
     const float deg = ini.get<float>(section, "horizontalTolerance");
-    horizontal_tolerance = static_cast<float>(deg * (kPi / 180.0));
+    o.horizontal_tolerance = static_cast<float>(deg * (kPi / 180.0));
   }
-  read_float("CFD_features_gaussian_size", cfd_features_gaussian_size);
-  read_float("CFD_features_median_size", cfd_features_median_size);
-  read_bool("wideningBeamsWithDistance", widening_beams_with_distance);
+  read_float("CFD_features_gaussian_size", o.cfd_features_gaussian_size);
+  read_float("CFD_features_median_size", o.cfd_features_median_size);
+  read_bool("wideningBeamsWithDistance", o.widening_beams_with_distance);
   // Each value against its range, naming the key (check() below is the
   // precondition of the algorithms and stays the last line of defence).
   const auto need = [&](bool ok, const char* key, float v, std::string_view range) {
@@ -506,26 +509,27 @@ void GridInsertionOptions::load(const IniFile& ini, std::string_view section) {
     }
   };
   const auto unit = [](float v) { return v >= 0.0f && v <= 1.0f; };
-  need(std::isfinite(map_altitude), "mapAltitude", map_altitude, "the finite numbers");
-  need(std::isfinite(max_distance_insertion) && max_distance_insertion > 0.0f,
-       "maxDistanceInsertion", max_distance_insertion, "(0, inf) meters");
-  need(unit(max_occupancy_update_certainty), "maxOccupancyUpdateCertainty",
-       max_occupancy_update_certainty, "[0, 1]");
-  need(unit(max_freeness_update_certainty), "maxFreenessUpdateCertainty",
-       max_freeness_update_certainty, "[0, 1]");
-  need(unit(max_freeness_invalid_ranges), "maxFreenessInvalidRanges", max_freeness_invalid_ranges,
+  need(std::isfinite(o.map_altitude), "mapAltitude", o.map_altitude, "the finite numbers");
+  need(std::isfinite(o.max_distance_insertion) && o.max_distance_insertion > 0.0f,
+       "maxDistanceInsertion", o.max_distance_insertion, "(0, inf) meters");
+  need(unit(o.max_occupancy_update_certainty), "maxOccupancyUpdateCertainty",
+       o.max_occupancy_update_certainty, "[0, 1]");
+  need(unit(o.max_freeness_update_certainty), "maxFreenessUpdateCertainty",
+       o.max_freeness_update_certainty, "[0, 1]");
+  need(unit(o.max_freeness_invalid_ranges), "maxFreenessInvalidRanges", o.max_freeness_invalid_ranges,
        "[0, 1]");
-  need(std::isfinite(horizontal_tolerance) && horizontal_tolerance >= 0.0f, "horizontalTolerance",
-       static_cast<float>(horizontal_tolerance * (180.0 / kPi)), "[0, inf) degrees");
-  need(std::isfinite(cfd_features_gaussian_size), "CFD_features_gaussian_size",
-       cfd_features_gaussian_size, "the finite numbers");
-  need(std::isfinite(cfd_features_median_size), "CFD_features_median_size",
-       cfd_features_median_size, "the finite numbers");
+  need(std::isfinite(o.horizontal_tolerance) && o.horizontal_tolerance >= 0.0f, "horizontalTolerance",
+       static_cast<float>(o.horizontal_tolerance * (180.0 / kPi)), "[0, inf) degrees");
+  need(std::isfinite(o.cfd_features_gaussian_size), "CFD_features_gaussian_size",
+       o.cfd_features_gaussian_size, "the finite numbers");
+  need(std::isfinite(o.cfd_features_median_size), "CFD_features_median_size",
+       o.cfd_features_median_size, "the finite numbers");
   try {
-    check();
+    o.check();
   } catch (const InvalidArgument& e) {
     throw ConfigError(ini.source(), sec, "", e.message());
   }
+  return o;
 }
 
 void GridInsertionOptions::check() const {

@@ -91,10 +91,13 @@ void mrpt_scan_points(const RangeScan2D& scan, float min_dist, std::vector<float
   }
 }
 
-void GridLikelihoodOptions::load(const IniFile& ini, std::string_view section) {
+GridLikelihoodOptions GridLikelihoodOptions::from_config(const ConfigSection& config) {
+  GridLikelihoodOptions o;
+  const IniFile& ini = config.ini();
+  const std::string_view section = config.name();
   const std::string sec(section);
   if (ini.has(section, "likelihoodMethod")) {
-    method = ini.get_enum<GridLikelihoodMethod>(
+    o.method = ini.get_enum<GridLikelihoodMethod>(
         section, "likelihoodMethod",
         {{"lmMeanInformation", GridLikelihoodMethod::kMeanInformation},
          {"lmRayTracing", GridLikelihoodMethod::kRayTracing},
@@ -116,24 +119,24 @@ void GridLikelihoodOptions::load(const IniFile& ini, std::string_view section) {
   const auto ri = [&](const char* key, std::int32_t& v) {
     if (ini.has(section, key)) v = ini.get<int>(section, key);
   };
-  rb("enableLikelihoodCache", enable_likelihood_cache);
-  rf("LF_stdHit", lf_std_hit);
-  rf("LF_zHit", lf_z_hit);
-  rf("LF_zRandom", lf_z_random);
-  rf("LF_maxRange", lf_max_range);
-  ru("LF_decimation", lf_decimation);
-  rf("LF_maxCorrsDistance", lf_max_corrs_distance);
-  rb("LF_useSquareDist", lf_use_square_dist);
-  rb("LF_alternateAverageMethod", lf_alternate_average_method);
-  rf("MI_exponent", mi_exponent);
-  ru("MI_skip_rays", mi_skip_rays);
-  rf("MI_ratio_max_distance", mi_ratio_max_distance);
-  rb("rayTracing_useDistanceFilter", ray_tracing_use_distance_filter);
-  ri("rayTracing_decimation", ray_tracing_decimation);
-  rf("rayTracing_stdHit", ray_tracing_std_hit);
-  ri("consensus_takeEachRange", consensus_take_each_range);
-  rf("consensus_pow", consensus_pow);
-  if (ini.has(section, "OWA_weights")) owa_weights = ini.get_vector<float>(section, "OWA_weights");
+  rb("enableLikelihoodCache", o.enable_likelihood_cache);
+  rf("LF_stdHit", o.lf_std_hit);
+  rf("LF_zHit", o.lf_z_hit);
+  rf("LF_zRandom", o.lf_z_random);
+  rf("LF_maxRange", o.lf_max_range);
+  ru("LF_decimation", o.lf_decimation);
+  rf("LF_maxCorrsDistance", o.lf_max_corrs_distance);
+  rb("LF_useSquareDist", o.lf_use_square_dist);
+  rb("LF_alternateAverageMethod", o.lf_alternate_average_method);
+  rf("MI_exponent", o.mi_exponent);
+  ru("MI_skip_rays", o.mi_skip_rays);
+  rf("MI_ratio_max_distance", o.mi_ratio_max_distance);
+  rb("rayTracing_useDistanceFilter", o.ray_tracing_use_distance_filter);
+  ri("rayTracing_decimation", o.ray_tracing_decimation);
+  rf("rayTracing_stdHit", o.ray_tracing_std_hit);
+  ri("consensus_takeEachRange", o.consensus_take_each_range);
+  rf("consensus_pow", o.consensus_pow);
+  if (ini.has(section, "OWA_weights")) o.owa_weights = ini.get_vector<float>(section, "OWA_weights");
   // Each value against its range, naming the key (check() below is the
   // precondition of the models and stays the last line of defence).
   const auto need = [&](bool ok, const char* key, double v, std::string_view range) {
@@ -145,31 +148,32 @@ void GridLikelihoodOptions::load(const IniFile& ini, std::string_view section) {
   };
   const auto positive = [](float v) { return std::isfinite(v) && v > 0.0f; };
   for (const auto& [key, v] :
-       {std::pair{"LF_zHit", lf_z_hit}, std::pair{"LF_zRandom", lf_z_random},
-        std::pair{"MI_exponent", mi_exponent}, std::pair{"consensus_pow", consensus_pow}}) {
+       {std::pair{"LF_zHit", o.lf_z_hit}, std::pair{"LF_zRandom", o.lf_z_random},
+        std::pair{"MI_exponent", o.mi_exponent}, std::pair{"consensus_pow", o.consensus_pow}}) {
     need(std::isfinite(v), key, v, "the finite numbers");
   }
-  need(positive(lf_std_hit), "LF_stdHit", lf_std_hit, "(0, inf)");
-  need(positive(lf_max_range), "LF_maxRange", lf_max_range, "(0, inf)");
-  need(std::isfinite(lf_max_corrs_distance) && lf_max_corrs_distance >= 0.0f,
-       "LF_maxCorrsDistance", lf_max_corrs_distance, "[0, inf)");
-  need(lf_decimation >= 1, "LF_decimation", lf_decimation, "[1, inf)");
-  need(mi_skip_rays >= 1, "MI_skip_rays", mi_skip_rays, "[1, inf)");
-  need(positive(mi_ratio_max_distance), "MI_ratio_max_distance", mi_ratio_max_distance, "(0, inf)");
-  need(ray_tracing_decimation >= 1, "rayTracing_decimation", ray_tracing_decimation, "[1, inf)");
-  need(positive(ray_tracing_std_hit), "rayTracing_stdHit", ray_tracing_std_hit, "(0, inf)");
-  need(consensus_take_each_range >= 1, "consensus_takeEachRange", consensus_take_each_range,
+  need(positive(o.lf_std_hit), "LF_stdHit", o.lf_std_hit, "(0, inf)");
+  need(positive(o.lf_max_range), "LF_maxRange", o.lf_max_range, "(0, inf)");
+  need(std::isfinite(o.lf_max_corrs_distance) && o.lf_max_corrs_distance >= 0.0f,
+       "LF_maxCorrsDistance", o.lf_max_corrs_distance, "[0, inf)");
+  need(o.lf_decimation >= 1, "LF_decimation", o.lf_decimation, "[1, inf)");
+  need(o.mi_skip_rays >= 1, "MI_skip_rays", o.mi_skip_rays, "[1, inf)");
+  need(positive(o.mi_ratio_max_distance), "MI_ratio_max_distance", o.mi_ratio_max_distance, "(0, inf)");
+  need(o.ray_tracing_decimation >= 1, "rayTracing_decimation", o.ray_tracing_decimation, "[1, inf)");
+  need(positive(o.ray_tracing_std_hit), "rayTracing_stdHit", o.ray_tracing_std_hit, "(0, inf)");
+  need(o.consensus_take_each_range >= 1, "consensus_takeEachRange", o.consensus_take_each_range,
        "[1, inf)");
-  for (const float w : owa_weights) need(std::isfinite(w), "OWA_weights", w, "the finite numbers");
-  if (owa_weights.empty() && method == GridLikelihoodMethod::kConsensusOWA) {
+  for (const float w : o.owa_weights) need(std::isfinite(w), "OWA_weights", w, "the finite numbers");
+  if (o.owa_weights.empty() && o.method == GridLikelihoodMethod::kConsensusOWA) {
     throw ConfigError(ini.source(), sec, "OWA_weights",
                       "likelihoodMethod lmConsensusOWA needs OWA_weights (none given)");
   }
   try {
-    check();
+    o.check();
   } catch (const InvalidArgument& e) {
     throw ConfigError(ini.source(), sec, "", e.message());
   }
+  return o;
 }
 
 void GridLikelihoodOptions::check() const {

@@ -16,7 +16,7 @@
 
 namespace rove {
 
-HeightMapCreationOptions HeightMapCreationOptions::load(const ConfigSection& s) {
+HeightMapCreationOptions HeightMapCreationOptions::from_config(const ConfigSection& s) {
   HeightMapCreationOptions o;
   o.min_x = s.get<double>("min_x", o.min_x);
   o.max_x = s.get<double>("max_x", o.max_x);
@@ -52,7 +52,7 @@ HeightMapCreationOptions HeightMapCreationOptions::load(const ConfigSection& s) 
   return o;
 }
 
-HeightMapInsertOptions HeightMapInsertOptions::load(const ConfigSection& s) {
+HeightMapInsertOptions HeightMapInsertOptions::from_config(const ConfigSection& s) {
   HeightMapInsertOptions o;
   o.filter_by_height = s.get<bool>("filterByHeight", o.filter_by_height);
   o.z_min = s.get<double>("z_min", o.z_min);
@@ -61,7 +61,7 @@ HeightMapInsertOptions HeightMapInsertOptions::load(const ConfigSection& s) {
   return o;
 }
 
-HeightMapLikelihoodOptions HeightMapLikelihoodOptions::load(const ConfigSection& s) {
+HeightMapLikelihoodOptions HeightMapLikelihoodOptions::from_config(const ConfigSection& s) {
   HeightMapLikelihoodOptions o;
   o.sigma_z = s.get_in_range("sigma_z", o.sigma_z, 1e-9, 1e9);
   o.outlier_sigmas = s.get_in_range("outlier_sigmas", o.outlier_sigmas, 0.0, 1e6);

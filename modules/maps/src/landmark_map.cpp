@@ -100,7 +100,7 @@ PointGaussian3 bearing_range_to_point(const LandmarkMeasurement& m, const Eigen:
   return g;
 }
 
-LandmarkMapCreationOptions LandmarkMapCreationOptions::load(const ConfigSection& s) {
+LandmarkMapCreationOptions LandmarkMapCreationOptions::from_config(const ConfigSection& s) {
   LandmarkMapCreationOptions o;
   const int n = s.get<int>("nBeacons", 0);
   if (n < 0) s.fail("nBeacons", fmt::format("must be >= 0, got {}", n));
@@ -115,7 +115,7 @@ LandmarkMapCreationOptions LandmarkMapCreationOptions::load(const ConfigSection&
   return o;
 }
 
-LandmarkMapInsertOptions LandmarkMapInsertOptions::load(const ConfigSection& s) {
+LandmarkMapInsertOptions LandmarkMapInsertOptions::from_config(const ConfigSection& s) {
   LandmarkMapInsertOptions o;
   o.insert_bearing_range = s.get<bool>("insert_bearing_range", o.insert_bearing_range);
   o.association_gate_chi2 =
@@ -141,7 +141,7 @@ LandmarkMapInsertOptions LandmarkMapInsertOptions::load(const ConfigSection& s) 
   return o;
 }
 
-LandmarkMapLikelihoodOptions LandmarkMapLikelihoodOptions::load(const ConfigSection& s) {
+LandmarkMapLikelihoodOptions LandmarkMapLikelihoodOptions::from_config(const ConfigSection& s) {
   LandmarkMapLikelihoodOptions o;
   o.beacon_ranges_std = s.get_in_range("beaconRangesStd", o.beacon_ranges_std, 1e-12, 1e9);
   o.beacon_ranges_use_observation_std =

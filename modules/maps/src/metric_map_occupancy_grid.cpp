@@ -13,7 +13,7 @@
 
 namespace rove {
 
-OccupancyGridCreationOptions OccupancyGridCreationOptions::load(const ConfigSection& s) {
+OccupancyGridCreationOptions OccupancyGridCreationOptions::from_config(const ConfigSection& s) {
   OccupancyGridCreationOptions o;
   o.min_x = s.get<float>("min_x", o.min_x);
   o.max_x = s.get<float>("max_x", o.max_x);
@@ -135,28 +135,10 @@ std::unique_ptr<MetricMap> make_occupancy_grid_metric_map(const IniFile& ini,
                                                           std::vector<IgnoredConfigKey>* ign) {
   ConfigSection cs(ini, p + "_creationOpts", ign), is(ini, p + "_insertOpts", ign),
       ls(ini, p + "_likelihoodOpts", ign);
-  const auto creation = OccupancyGridCreationOptions::load(cs);
-  GridInsertionOptions io;
-  io.load(ini, is.name());
-  // GridInsertionOptions::load reads with get(); mark what it consumed.
-  for (std::string_view k :
-       {"mapAltitude", "useMapAltitude", "maxDistanceInsertion", "maxOccupancyUpdateCertainty",
-        "maxFreenessUpdateCertainty", "maxFreenessInvalidRanges",
-        "considerInvalidRangesAsFreeSpace", "decimation", "horizontalTolerance",
-        "CFD_features_gaussian_size", "CFD_features_median_size", "wideningBeamsWithDistance"}) {
-    if (is.has(k)) (void)ini.raw(is.name(), k);
-  }
+  const auto creation = OccupancyGridCreationOptions::from_config(cs);
+  const auto io = GridInsertionOptions::from_config(is);
   is.ignore({"minLaserScanNoiseStd"}, "MRPT 1.x key, not read by MRPT 2.x");
-  GridLikelihoodOptions lo;
-  lo.load(ini, ls.name());
-  for (std::string_view k :
-       {"likelihoodMethod", "enableLikelihoodCache", "LF_stdHit", "LF_zHit", "LF_zRandom",
-        "LF_maxRange", "LF_decimation", "LF_maxCorrsDistance", "LF_useSquareDist",
-        "LF_alternateAverageMethod", "MI_exponent", "MI_skip_rays", "MI_ratio_max_distance",
-        "rayTracing_useDistanceFilter", "rayTracing_decimation", "rayTracing_stdHit",
-        "consensus_takeEachRange", "consensus_pow", "OWA_weights"}) {
-    if (ls.has(k)) (void)ini.raw(ls.name(), k);
-  }
+  auto lo = GridLikelihoodOptions::from_config(ls);
   is.check_all_read();
   ls.check_all_read();
   return std::make_unique<OccupancyGridMetricMap>(creation, io, std::move(lo));

@@ -13,7 +13,7 @@
 
 namespace rove {
 
-PointMapInsertionOptions load_point_map_insertion_options(const ConfigSection& s) {
+PointMapInsertionOptions PointMapInsertionOptions::from_config(const ConfigSection& s) {
   PointMapInsertionOptions o;
   o.min_dist_between_points = s.get<float>("minDistBetweenLaserPoints", o.min_dist_between_points);
   if (s.has("horizontalTolerance")) {
@@ -32,7 +32,7 @@ PointMapInsertionOptions load_point_map_insertion_options(const ConfigSection& s
   return o;
 }
 
-PointMapLikelihoodOptions load_point_map_likelihood_options(const ConfigSection& s) {
+PointMapLikelihoodOptions PointMapLikelihoodOptions::from_config(const ConfigSection& s) {
   PointMapLikelihoodOptions o;
   o.sigma_dist = s.get_in_range("sigma_dist", o.sigma_dist, 1e-300, 1e300);
   o.max_corr_distance = s.get_in_range("max_corr_distance", o.max_corr_distance, 1e-300, 1e300);
@@ -121,8 +121,8 @@ std::unique_ptr<MetricMap> make_points_metric_map(const IniFile& ini, const std:
   ConfigSection is(ini, p + "_insertOpts", ign), ls(ini, p + "_likelihoodOpts", ign),
       rs(ini, p + "_renderOpts", ign), co(ini, p + "_colorOpts", ign);
   auto m = std::make_unique<PointsMetricMap>(flavor);
-  m->points().insertion_options = load_point_map_insertion_options(is);
-  m->points().likelihood_options = load_point_map_likelihood_options(ls);
+  m->points().insertion_options = PointMapInsertionOptions::from_config(is);
+  m->points().likelihood_options = PointMapLikelihoodOptions::from_config(ls);
   rs.ignore({"point_size", "color.R", "color.G", "color.B", "colormap"},
             "render options only style MRPT's 3D view");
   co.ignore({"scheme", "z_min", "z_max", "d_max"}, "the color scheme only styles MRPT's 3D view");

@@ -42,8 +42,8 @@ struct KindInfo {
 std::unique_ptr<MetricMap> make_beacon_map(const IniFile& ini, const std::string& p,
                                            std::vector<IgnoredConfigKey>* ign) {
   ConfigSection is(ini, p + "_insertOpts", ign), ls(ini, p + "_likelihoodOpts", ign);
-  auto m = std::make_unique<BeaconMap>(BeaconMapInsertOptions::load(is),
-                                       BeaconMapLikelihoodOptions::load(ls));
+  auto m = std::make_unique<BeaconMap>(BeaconMapInsertOptions::from_config(is),
+                                       BeaconMapLikelihoodOptions::from_config(ls));
   is.check_all_read();
   ls.check_all_read();
   return m;
@@ -53,9 +53,9 @@ std::unique_ptr<MetricMap> make_landmark_map(const IniFile& ini, const std::stri
                                              std::vector<IgnoredConfigKey>* ign) {
   ConfigSection cs(ini, p + "_creationOpts", ign), is(ini, p + "_insertOpts", ign),
       ls(ini, p + "_likelihoodOpts", ign);
-  auto m = std::make_unique<LandmarkMap>(LandmarkMapCreationOptions::load(cs),
-                                         LandmarkMapInsertOptions::load(is),
-                                         LandmarkMapLikelihoodOptions::load(ls));
+  auto m = std::make_unique<LandmarkMap>(LandmarkMapCreationOptions::from_config(cs),
+                                         LandmarkMapInsertOptions::from_config(is),
+                                         LandmarkMapLikelihoodOptions::from_config(ls));
   is.check_all_read();
   ls.check_all_read();
   return m;
@@ -65,9 +65,9 @@ std::unique_ptr<MetricMap> make_height_map(const IniFile& ini, const std::string
                                            std::vector<IgnoredConfigKey>* ign) {
   ConfigSection cs(ini, p + "_creationOpts", ign), is(ini, p + "_insertOpts", ign),
       ls(ini, p + "_likelihoodOpts", ign);
-  auto m = std::make_unique<HeightMap>(HeightMapCreationOptions::load(cs),
-                                       HeightMapInsertOptions::load(is),
-                                       HeightMapLikelihoodOptions::load(ls));
+  auto m = std::make_unique<HeightMap>(HeightMapCreationOptions::from_config(cs),
+                                       HeightMapInsertOptions::from_config(is),
+                                       HeightMapLikelihoodOptions::from_config(ls));
   is.check_all_read();
   ls.check_all_read();
   return m;

@@ -169,8 +169,8 @@ TEST(BeaconMapOptions, LoadFromMrptSection) {
       "[m_likelihoodOpts]\nrangeStd=0.02\n",
       "test.ini");
   ConfigSection is(ini, "m_insertOpts"), ls(ini, "m_likelihoodOpts");
-  const auto io = BeaconMapInsertOptions::load(is);
-  const auto lo = BeaconMapLikelihoodOptions::load(ls);
+  const auto io = BeaconMapInsertOptions::from_config(is);
+  const auto lo = BeaconMapLikelihoodOptions::from_config(ls);
   is.check_all_read();
   ls.check_all_read();
   EXPECT_FALSE(io.insert_as_monte_carlo);
@@ -181,7 +181,7 @@ TEST(BeaconMapOptions, LoadFromMrptSection) {
 
   const auto bad = IniFile::parse("[s]\nminElevation_deg=10\nmaxElevation_deg=5\n", "bad.ini");
   try {
-    (void)BeaconMapInsertOptions::load(ConfigSection(bad, "s"));
+    (void)BeaconMapInsertOptions::from_config(ConfigSection(bad, "s"));
     FAIL() << "expected ConfigError";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.key(), "minElevation_deg");
@@ -189,7 +189,7 @@ TEST(BeaconMapOptions, LoadFromMrptSection) {
   }
   const auto typo = IniFile::parse("[s]\nrangeStdd=0.1\n", "typo.ini");
   ConfigSection ts(typo, "s");
-  (void)BeaconMapLikelihoodOptions::load(ts);
+  (void)BeaconMapLikelihoodOptions::from_config(ts);
   try {
     ts.check_all_read();
     FAIL() << "expected ConfigError";

@@ -120,15 +120,15 @@ TEST(HeightMapOptions, LoadAndReject) {
       "h.ini");
   std::vector<IgnoredConfigKey> ignored;
   ConfigSection cs(ini, "c", &ignored), is(ini, "i", &ignored);
-  HeightMap map(HeightMapCreationOptions::load(cs), HeightMapInsertOptions::load(is));
+  HeightMap map(HeightMapCreationOptions::from_config(cs), HeightMapInsertOptions::from_config(is));
   cs.check_all_read();
   is.check_all_read();
   EXPECT_EQ(map.size_x(), 40u);
   EXPECT_TRUE(map.insert_options.filter_by_height);
   ASSERT_EQ(ignored.size(), 1u);
   EXPECT_EQ(ignored[0].key, "colorMap");
-  EXPECT_THROW((void)HeightMapCreationOptions::load(ConfigSection(ini, "bad")), ConfigError);
-  EXPECT_THROW((void)HeightMapCreationOptions::load(ConfigSection(ini, "bad2")), ConfigError);
+  EXPECT_THROW((void)HeightMapCreationOptions::from_config(ConfigSection(ini, "bad")), ConfigError);
+  EXPECT_THROW((void)HeightMapCreationOptions::from_config(ConfigSection(ini, "bad2")), ConfigError);
 }
 
 }  // namespace

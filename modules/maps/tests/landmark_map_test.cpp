@@ -124,7 +124,7 @@ TEST(LandmarkMap, BeaconRangeLikelihoodAsMrpt) {
       "lm.ini");
   std::vector<IgnoredConfigKey> ignored;
   ConfigSection cs(ini, "c", &ignored), ls(ini, "l", &ignored);
-  LandmarkMap map(LandmarkMapCreationOptions::load(cs), {}, LandmarkMapLikelihoodOptions::load(ls));
+  LandmarkMap map(LandmarkMapCreationOptions::from_config(cs), {}, LandmarkMapLikelihoodOptions::from_config(ls));
   cs.check_all_read();
   ls.check_all_read();
   EXPECT_EQ(ignored.size(), 2u);  // alphaRatio, beaconMaxRange: not read by MRPT 2.x

@@ -134,18 +134,15 @@ TEST(GridOptions, LoadFromIniAndReportErrors) {
       "[g_likelihoodOpts]\nlikelihoodMethod=lmConsensus\nLF_decimation=3\nfoo=1\n"
       "[bad]\ndecimation=0\n",
       "test.ini");
-  GridInsertionOptions io;
-  io.load(ini, "g_insertOpts");
+  const auto io = GridInsertionOptions::from_config(ConfigSection(ini, "g_insertOpts"));
   EXPECT_EQ(io.max_distance_insertion, 20.0f);
   EXPECT_NEAR(io.horizontal_tolerance, 3.14159265 / 180, 1e-7);
   EXPECT_TRUE(io.widening_beams_with_distance);
-  GridLikelihoodOptions lo;
-  lo.load(ini, "g_likelihoodOpts");
+  const auto lo = GridLikelihoodOptions::from_config(ConfigSection(ini, "g_likelihoodOpts"));
   EXPECT_EQ(lo.method, GridLikelihoodMethod::kConsensus);
   EXPECT_EQ(lo.lf_decimation, 3u);
   EXPECT_EQ(ini.unread_keys("g_likelihoodOpts"), std::vector<std::string>{"foo"});
-  GridInsertionOptions b;
-  EXPECT_THROW(b.load(ini, "bad"), ConfigError);
+  EXPECT_THROW(GridInsertionOptions::from_config(ConfigSection(ini, "bad")), ConfigError);
 }
 
 TEST(GridLikelihood, BatchEqualsSingleAndStaleGridIsRejected) {

@@ -17,13 +17,11 @@ void check_param(double value, const char* name) {
 }
 
 // Reads `key` (if present) in file units, stores value·to_si in `out`.
-void read_param(const IniFile& ini, std::string_view section, std::string_view key,
-                double to_si, double& out) {
-  if (!ini.has(section, key)) return;
-  const double v = ini.get<double>(section, key);
+void read_param(const ConfigSection& section, std::string_view key, double to_si, double& out) {
+  if (!section.has(key)) return;
+  const double v = section.get<double>(key, 0.0);
   if (!(std::isfinite(v) && v >= 0.0)) {
-    throw ConfigError(ini.source(), std::string(section), std::string(key),
-                      "must be finite and >= 0, found " + std::to_string(v));
+    section.fail(key, "must be finite and >= 0, found " + std::to_string(v));
   }
   out = v * to_si;
 }
@@ -57,38 +55,30 @@ void MotionModelOptions::check() const {
   thrun.check();
 }
 
-void MotionModelOptions::load(const IniFile& ini, std::string_view section) {
-  if (ini.has(section, "modelSelection")) {
-    model = ini.get_enum<MotionModel>(
-        section, "modelSelection",
-        {{"mmGaussian", MotionModel::kGaussian}, {"mmThrun", MotionModel::kThrun}});
-  }
-  // Gaussian model: a1 m/m, a2 m/deg, a3 deg/m, a4 deg/deg, minStdXY m, minStdPHI deg.
-  read_param(ini, section, "a1", 1.0, gaussian.a1_m_per_m);
-  read_param(ini, section, "a2", kPerDeg, gaussian.a2_m_per_rad);
-  read_param(ini, section, "a3", kDeg, gaussian.a3_rad_per_m);
-  read_param(ini, section, "a4", 1.0, gaussian.a4_rad_per_rad);
-  read_param(ini, section, "minStdXY", 1.0, gaussian.min_std_xy_m);
-  read_param(ini, section, "minStdPHI", kDeg, gaussian.min_std_phi_rad);
-  // Thrun model: alfa1 deg/deg, alfa2 deg/m, alfa3 m/m, alfa4 m/deg, std m and deg.
-  if (ini.has(section, "nParticlesCount")) {
-    const unsigned n = ini.get<unsigned>(section, "nParticlesCount");
-    if (n == 0) {
-      throw ConfigError(ini.source(), std::string(section), "nParticlesCount", "must be >= 1");
-    }
-    thrun.particle_count = n;
-  }
-  read_param(ini, section, "alfa1_rot_rot", 1.0, thrun.alpha1_rot_rot);
-  read_param(ini, section, "alfa2_rot_trans", kDeg, thrun.alpha2_rot_trans_rad_per_m);
-  read_param(ini, section, "alfa3_trans_trans", 1.0, thrun.alpha3_trans_trans);
-  read_param(ini, section, "alfa4_trans_rot", kPerDeg, thrun.alpha4_trans_rot_m_per_rad);
-  read_param(ini, section, "additional_std_XY", 1.0, thrun.additional_std_xy_m);
-  read_param(ini, section, "additional_std_phi", kDeg, thrun.additional_std_phi_rad);
-}
-
-MotionModelOptions MotionModelOptions::from_ini(const IniFile& ini, std::string_view section) {
+MotionModelOptions MotionModelOptions::from_config(const ConfigSection& section) {
   MotionModelOptions o;
-  o.load(ini, section);
+  o.model = section.get_enum<MotionModel>(
+      "modelSelection", o.model,
+      {{"mmGaussian", MotionModel::kGaussian}, {"mmThrun", MotionModel::kThrun}});
+  // Gaussian model: a1 m/m, a2 m/deg, a3 deg/m, a4 deg/deg, minStdXY m, minStdPHI deg.
+  read_param(section, "a1", 1.0, o.gaussian.a1_m_per_m);
+  read_param(section, "a2", kPerDeg, o.gaussian.a2_m_per_rad);
+  read_param(section, "a3", kDeg, o.gaussian.a3_rad_per_m);
+  read_param(section, "a4", 1.0, o.gaussian.a4_rad_per_rad);
+  read_param(section, "minStdXY", 1.0, o.gaussian.min_std_xy_m);
+  read_param(section, "minStdPHI", kDeg, o.gaussian.min_std_phi_rad);
+  // Thrun model: alfa1 deg/deg, alfa2 deg/m, alfa3 m/m, alfa4 m/deg, std m and deg.
+  if (section.has("nParticlesCount")) {
+    const unsigned n = section.get<unsigned>("nParticlesCount", 0);
+    if (n == 0) section.fail("nParticlesCount", "must be >= 1");
+    o.thrun.particle_count = n;
+  }
+  read_param(section, "alfa1_rot_rot", 1.0, o.thrun.alpha1_rot_rot);
+  read_param(section, "alfa2_rot_trans", kDeg, o.thrun.alpha2_rot_trans_rad_per_m);
+  read_param(section, "alfa3_trans_trans", 1.0, o.thrun.alpha3_trans_trans);
+  read_param(section, "alfa4_trans_rot", kPerDeg, o.thrun.alpha4_trans_rot_m_per_rad);
+  read_param(section, "additional_std_XY", 1.0, o.thrun.additional_std_xy_m);
+  read_param(section, "additional_std_phi", kDeg, o.thrun.additional_std_phi_rad);
   return o;
 }
 

@@ -27,7 +27,8 @@ alfa4_trans_rot = 0.001
 additional_std_XY = 0.005
 additional_std_phi = 0.1
 )");
-  const MotionModelOptions o = MotionModelOptions::from_ini(ini, "MotionModel");
+  const MotionModelOptions o =
+      MotionModelOptions::from_config(ConfigSection(ini, "MotionModel"));
   EXPECT_EQ(o.model, MotionModel::kThrun);
   EXPECT_DOUBLE_EQ(o.gaussian.a1_m_per_m, 0.05);
   EXPECT_DOUBLE_EQ(o.gaussian.a2_m_per_rad, 0.001 * 180.0 / kPi);
@@ -47,23 +48,28 @@ additional_std_phi = 0.1
 
 TEST(MotionModelOptions, MissingKeysKeepDefaults) {
   // MRPT's pf-localization [DummyOdometryParams] section: two keys only.
-  const IniFile ini = IniFile::parse("[DummyOdometryParams]\nminStdXY = 0.10\nminStdPHI = 2.0\n");
-  const MotionModelOptions o = MotionModelOptions::from_ini(ini, "DummyOdometryParams");
+  const IniFile ini = IniFile::parse(
+      "[DummyOdometryParams]\nminStdXY = 0.10\nminStdPHI = 2.0\n");
+  const MotionModelOptions o = MotionModelOptions::from_config(
+      ConfigSection(ini, "DummyOdometryParams"));
   MotionModelOptions expected;
   expected.gaussian.min_std_xy_m = 0.10;
   expected.gaussian.min_std_phi_rad = 2.0 * kPi / 180.0;
   EXPECT_EQ(o, expected);
-  EXPECT_EQ(MotionModelOptions::from_ini(ini, "NoSuchSection"), MotionModelOptions{});
+  EXPECT_EQ(
+      MotionModelOptions::from_config(ConfigSection(ini, "NoSuchSection")),
+      MotionModelOptions{});
 }
 
 TEST(MotionModelOptions, BadValuesNameTheKey) {
-  const auto load = [](const char* text) {
-    return MotionModelOptions::from_ini(IniFile::parse(text, "motion.ini"), "M");
+  const auto load = [](const char *text) {
+    const IniFile ini = IniFile::parse(text, "motion.ini");
+    return MotionModelOptions::from_config(ConfigSection(ini, "M"));
   };
   try {
     (void)load("[M]\na1 = -0.5\n");
     FAIL() << "negative a1 accepted";
-  } catch (const ConfigError& e) {
+  } catch (const ConfigError &e) {
     EXPECT_EQ(e.key(), "a1");
     EXPECT_EQ(e.file(), "motion.ini");
     EXPECT_EQ(e.section(), "M");
@@ -75,5 +81,5 @@ TEST(MotionModelOptions, BadValuesNameTheKey) {
   EXPECT_EQ(load("[M]\nmodelSelection = 1\n").model, MotionModel::kThrun);
 }
 
-}  // namespace
-}  // namespace rove
+} // namespace
+} // namespace rove

@@ -68,10 +68,10 @@ double mrpt_float_deg_key(const IniFile& ini, const std::string& s, const char* 
 }
 }  // namespace
 
-Icp2dOptions icp_2d_options_from_ini(const IniFile& ini, std::string_view section,
-                                     std::vector<std::string>* unknown_keys) {
+Icp2dOptions Icp2dOptions::from_config(const ConfigSection& section) {
   Icp2dOptions o;
-  const std::string s(section);
+  const IniFile& ini = section.ini();
+  const std::string& s = section.name();
   o.algorithm = ini.has(s, "ICP_algorithm")
                     ? ini.get_enum<IcpAlgorithm>(s, "ICP_algorithm",
                                                  {{"icpClassic", IcpAlgorithm::Classic},
@@ -146,12 +146,7 @@ Icp2dOptions icp_2d_options_from_ini(const IniFile& ini, std::string_view sectio
   // quality measure.
   (void)ini.get_or<bool>(s, "skip_quality_calculation", true);
 
-  const auto unread = ini.unread_keys(s);
-  if (unknown_keys) {
-    *unknown_keys = unread;
-  } else if (!unread.empty()) {
-    throw ConfigError(ini.source(), s, unread.front(), "unknown ICP option");
-  }
+  section.check_all_read();
   try {
     o.check();
   } catch (const InvalidArgument& e) {

@@ -253,10 +253,16 @@ TEST(Icp2d, MaxIterationsIsNotConverged) {
   EXPECT_GE(r.iterations, 2u);
 }
 
+// The options of an [ICP] section given as text.
+Icp2dOptions icp_options(const std::string& text, const std::string& file = "<string>") {
+  const IniFile ini = IniFile::parse(text, file);
+  return Icp2dOptions::from_config(ConfigSection(ini, "ICP"));
+}
+
 TEST(Icp2dOptions, LoadsMrptIcpSlamSection) {
   const std::string path = std::string(ROVE_SOURCE_DIR) + "/data/mrpt/icp-slam_demo_classic.ini";
   const IniFile ini = IniFile::load(path);
-  const Icp2dOptions o = icp_2d_options_from_ini(ini, "ICP");
+  const Icp2dOptions o = Icp2dOptions::from_config(ConfigSection(ini, "ICP"));
   EXPECT_EQ(o.max_iterations, 80u);
   // MRPT reads these keys as float (read_float into double fields): the
   // values in effect are the nearest floats, bit for bit, and so are the
@@ -273,17 +279,18 @@ TEST(Icp2dOptions, LoadsMrptIcpSlamSection) {
   EXPECT_EQ(o.algorithm, IcpAlgorithm::Classic);
   EXPECT_EQ(o.corresponding_points_decimation, 5u);
   const IniFile lm = IniFile::load(std::string(ROVE_SOURCE_DIR) + "/data/mrpt/icp-slam_demo_LM.ini");
-  EXPECT_EQ(icp_2d_options_from_ini(lm, "ICP").algorithm, IcpAlgorithm::LevenbergMarquardt);
+  EXPECT_EQ(Icp2dOptions::from_config(ConfigSection(lm, "ICP")).algorithm,
+            IcpAlgorithm::LevenbergMarquardt);
   // rove's own key: the arithmetic of the closed-form fit (double unless said).
   EXPECT_EQ(o.fit_arithmetic, Icp2dFitArithmetic::Double);
-  EXPECT_EQ(icp_2d_options_from_ini(IniFile::parse("[ICP]\nfit_arithmetic = mrpt_float\n"), "ICP")
+  EXPECT_EQ(icp_options("[ICP]\nfit_arithmetic = mrpt_float\n")
                 .fit_arithmetic,
             Icp2dFitArithmetic::MrptFloat);
-  EXPECT_EQ(icp_2d_options_from_ini(IniFile::parse("[ICP]\nfit_arithmetic = double\n"), "ICP")
+  EXPECT_EQ(icp_options("[ICP]\nfit_arithmetic = double\n")
                 .fit_arithmetic,
             Icp2dFitArithmetic::Double);
   try {
-    (void)icp_2d_options_from_ini(IniFile::parse("[ICP]\nfit_arithmetic = single\n", "f.ini"), "ICP");
+    (void)icp_options("[ICP]\nfit_arithmetic = single\n", "f.ini");
     FAIL() << "an unknown fit_arithmetic was accepted";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.key(), "fit_arithmetic");
@@ -294,23 +301,17 @@ TEST(Icp2dOptions, LoadsMrptIcpSlamSection) {
 TEST(Icp2dOptions, UnknownAndMalformedKeysAreReported) {
   const IniFile ini = IniFile::parse("[ICP]\nmaxIterations = 10\nthresholdDsit = 0.3\n", "t.ini");
   try {
-    (void)icp_2d_options_from_ini(ini, "ICP");
+    (void)Icp2dOptions::from_config(ConfigSection(ini, "ICP"));
     FAIL() << "no error for an unknown key";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.key(), "thresholdDsit");
     EXPECT_EQ(e.file(), "t.ini");
   }
-  std::vector<std::string> unknown;
-  const auto o = icp_2d_options_from_ini(
-      IniFile::parse("[ICP]\nmaxIterations = 10\nthresholdDsit = 0.3\n"), "ICP", &unknown);
-  EXPECT_EQ(o.max_iterations, 10u);
-  ASSERT_EQ(unknown.size(), 1u);
-  EXPECT_EQ(unknown[0], "thresholdDsit");
-  EXPECT_THROW(icp_2d_options_from_ini(IniFile::parse("[ICP]\nALFA = 1.5\n"), "ICP"), ConfigError);
-  EXPECT_THROW(icp_2d_options_from_ini(IniFile::parse("[ICP]\nALFA = abc\n"), "ICP"), ConfigError);
-  EXPECT_THROW(icp_2d_options_from_ini(IniFile::parse("[ICP]\nrobust_kernel = nope\n"), "ICP"),
+  EXPECT_THROW(icp_options("[ICP]\nALFA = 1.5\n"), ConfigError);
+  EXPECT_THROW(icp_options("[ICP]\nALFA = abc\n"), ConfigError);
+  EXPECT_THROW(icp_options("[ICP]\nrobust_kernel = nope\n"),
                ConfigError);
-  EXPECT_EQ(icp_2d_options_from_ini(IniFile::parse("[ICP]\nrobust_kernel = huber:0.1\n"), "ICP")
+  EXPECT_EQ(icp_options("[ICP]\nrobust_kernel = huber:0.1\n")
                 .robust_kernel->type(),
             RobustKernelType::Huber);
 }
@@ -321,13 +322,14 @@ TEST(Icp2dOptions, LevenbergMarquardtFlavoursAndTheirKeys) {
       "[B]\nICP_algorithm = icpLevenbergMarquardt\nAxy_aprox_derivatives = 0.02\n"
       "[C]\nICP_algorithm = icpLevenbergMarquardt\nmetric = point_to_line\n",
       "t.ini");
-  EXPECT_EQ(icp_2d_options_from_ini(ini, "A").algorithm, IcpAlgorithm::RobustLevenbergMarquardt);
-  const auto b = icp_2d_options_from_ini(ini, "B");
+  EXPECT_EQ(Icp2dOptions::from_config(ConfigSection(ini, "A")).algorithm,
+            IcpAlgorithm::RobustLevenbergMarquardt);
+  const auto b = Icp2dOptions::from_config(ConfigSection(ini, "B"));
   EXPECT_EQ(b.algorithm, IcpAlgorithm::LevenbergMarquardt);
   EXPECT_EQ(b.axy_aprox_derivatives, static_cast<double>(0.02f));
   // MRPT's LM is point-to-point only: said by name, not silently changed.
   try {
-    (void)icp_2d_options_from_ini(ini, "C");
+    (void)Icp2dOptions::from_config(ConfigSection(ini, "C"));
     FAIL() << "point-to-line with MRPT's LM was accepted";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("icpRobustLevenbergMarquardt"), std::string::npos)

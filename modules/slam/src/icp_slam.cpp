@@ -87,7 +87,7 @@ IcpSlamConfig load_icp_slam_config(const IniFile& ini) {
                          "application's switches and the map declarations",
                          ini.line(kSec, unread.front()).value_or(0), kSec));
   }
-  o.icp = icp_2d_options_from_ini(ini, "ICP");
+  o.icp = Icp2dOptions::from_config(ConfigSection(ini, "ICP"));
   // MRPT's icp-slam, reproduced: its single-precision closed-form fit
   // unless the configuration asks for rove's double (fit_arithmetic).
   if (!ini.has("ICP", "fit_arithmetic")) o.icp.fit_arithmetic = Icp2dFitArithmetic::MrptFloat;

@@ -25,7 +25,7 @@
 
 #include <Eigen/Core>
 
-#include "rove/maps/map_config.h"
+#include "rove/core/config_section.h"
 #include "rove/maps/metric_map.h"
 #include "rove/obs/beacon_ranges.h"
 
@@ -111,7 +111,7 @@ struct BeaconMapInsertOptions {
 
   /// Loads the keys present in `section` over the defaults. Throws
   /// ConfigError (file, section, key) on a malformed or out-of-range value.
-  static BeaconMapInsertOptions load(const ConfigSection& section);
+  static BeaconMapInsertOptions from_config(const ConfigSection& section);
 };
 
 /// How BeaconMap evaluates range likelihoods (MRPT's
@@ -121,7 +121,7 @@ struct BeaconMapLikelihoodOptions {
   /// spread of a new beacon's ring. Must be > 0.
   double range_std = 0.08;
   /// Loads the keys present in `section` over the defaults.
-  static BeaconMapLikelihoodOptions load(const ConfigSection& section);
+  static BeaconMapLikelihoodOptions from_config(const ConfigSection& section);
 };
 
 /// A map of beacons. Thread-safety: thread-compatible; insert() draws from

@@ -17,7 +17,7 @@
 #include <string>
 #include <string_view>
 
-#include "rove/core/ini.h"
+#include "rove/core/config_section.h"
 #include "rove/maps/occupancy_grid.h"
 #include "rove/obs/range_scan_2d.h"
 #include "rove/poses/pose2.h"
@@ -65,7 +65,7 @@ struct GridInsertionOptions {
   /// Reads the keys present in `section` (missing keys keep their values).
   /// Throws ConfigError (file, section, key) on a malformed value or one
   /// that check() rejects.
-  void load(const IniFile& ini, std::string_view section);
+  static GridInsertionOptions from_config(const ConfigSection& config);
   /// Throws InvalidArgument unless all values are finite, certainties are in
   /// [0, 1] (0 allowed for the two "same as" fields), max_distance_insertion
   /// > 0, decimation >= 1 and horizontal_tolerance >= 0.

@@ -44,7 +44,7 @@
 #include <string_view>
 #include <vector>
 
-#include "rove/core/ini.h"
+#include "rove/core/config_section.h"
 #include "rove/maps/grid_insertion.h"
 #include "rove/maps/occupancy_grid.h"
 #include "rove/obs/range_scan_2d.h"
@@ -111,7 +111,7 @@ struct GridLikelihoodOptions {
 
   /// Reads the keys present in `section`. Throws ConfigError (file,
   /// section, key) on malformed values or values check() rejects.
-  void load(const IniFile& ini, std::string_view section);
+  static GridLikelihoodOptions from_config(const ConfigSection& config);
   /// Throws InvalidArgument unless values are finite, σ's and ranges > 0,
   /// decimations >= 1.
   void check() const;

@@ -17,7 +17,7 @@
 
 #include <Eigen/Core>
 
-#include "rove/maps/map_config.h"
+#include "rove/core/config_section.h"
 #include "rove/maps/metric_map.h"
 
 namespace rove {
@@ -41,7 +41,7 @@ struct HeightMapCreationOptions {
   /// Loads the keys present; `mapType` must be `mrSimpleAverage` (or 0),
   /// the only representation MRPT's CHeightGridMap2D has. Throws ConfigError
   /// on a malformed value, max <= min or resolution <= 0.
-  static HeightMapCreationOptions load(const ConfigSection& section);
+  static HeightMapCreationOptions from_config(const ConfigSection& section);
 };
 
 /// Insertion options (`<prefix>_insertOpts`, MRPT's defaults).
@@ -53,7 +53,7 @@ struct HeightMapInsertOptions {
   double z_max = 0.5;   ///< meters (`z_max`)
   /// Loads the keys present (`colorMap` is accepted and listed as without
   /// effect: it only colors MRPT's 3D view).
-  static HeightMapInsertOptions load(const ConfigSection& section);
+  static HeightMapInsertOptions from_config(const ConfigSection& section);
 };
 
 /// Likelihood options (`<prefix>_likelihoodOpts`; MRPT's height map has no
@@ -67,7 +67,7 @@ struct HeightMapLikelihoodOptions {
   /// Use one point in `decimation` (`decimation`, >= 1).
   unsigned decimation = 1;
   /// Loads the keys present.
-  static HeightMapLikelihoodOptions load(const ConfigSection& section);
+  static HeightMapLikelihoodOptions from_config(const ConfigSection& section);
 };
 
 /// A mean-height grid. Thread-safety: thread-compatible.

@@ -8,7 +8,7 @@
 /// What MRPT's CLandmarksMap does and this class does not: SIFT features
 /// from (stereo) images, "occupancy features" from laser scans, GPS and
 /// robot-pose likelihoods. Their option keys are accepted from MRPT files
-/// and listed as without effect (see map_config.h), as is
+/// and listed as without effect (see rove/core/config_section.h), as is
 /// `insert_Landmarks_from_range_scans` when true: laser scans give this map
 /// no information (log-likelihood 0).
 ///
@@ -23,7 +23,7 @@
 #include <Eigen/Core>
 
 #include "rove/maps/beacon_map.h"
-#include "rove/maps/map_config.h"
+#include "rove/core/config_section.h"
 #include "rove/maps/metric_map.h"
 #include "rove/obs/bearing_range.h"
 
@@ -49,7 +49,7 @@ struct LandmarkMapCreationOptions {
   /// The initial landmarks.
   std::vector<Landmark> initial;
   /// Loads `nBeacons` and the numbered keys (1-based, three digits).
-  static LandmarkMapCreationOptions load(const ConfigSection& section);
+  static LandmarkMapCreationOptions from_config(const ConfigSection& section);
 };
 
 /// Insertion options (`<prefix>_insertOpts`).
@@ -62,7 +62,7 @@ struct LandmarkMapInsertOptions {
   double association_gate_chi2 = 11.34;
   /// Loads the keys present (lists image-feature keys and a true
   /// `insert_Landmarks_from_range_scans` as without effect).
-  static LandmarkMapInsertOptions load(const ConfigSection& section);
+  static LandmarkMapInsertOptions from_config(const ConfigSection& section);
 };
 
 /// Likelihood options (`<prefix>_likelihoodOpts`).
@@ -73,7 +73,7 @@ struct LandmarkMapLikelihoodOptions {
   /// (`beaconRangesUseObservationStd`).
   bool beacon_ranges_use_observation_std = false;
   /// Loads the keys present (lists SIFT, GPS and scan keys as without effect).
-  static LandmarkMapLikelihoodOptions load(const ConfigSection& section);
+  static LandmarkMapLikelihoodOptions from_config(const ConfigSection& section);
 };
 
 /// A map of landmarks. Thread-safety: thread-compatible.

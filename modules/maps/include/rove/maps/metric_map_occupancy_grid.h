@@ -18,7 +18,7 @@
 #include "rove/core/ini.h"
 #include "rove/maps/grid_insertion.h"
 #include "rove/maps/grid_likelihood.h"
-#include "rove/maps/map_config.h"
+#include "rove/core/config_section.h"
 #include "rove/maps/metric_map.h"
 #include "rove/maps/occupancy_grid.h"
 
@@ -38,7 +38,7 @@ struct OccupancyGridCreationOptions {
   /// Loads the keys present; ConfigError on max <= min or resolution <= 0
   /// or not finite, and on a grid beyond 2^31 cells; ResourceError naming
   /// the section and `resolution` when the grid exceeds the memory budget.
-  static OccupancyGridCreationOptions load(const ConfigSection& section);
+  static OccupancyGridCreationOptions from_config(const ConfigSection& section);
 };
 
 /// An occupancy grid as a MetricMap. Thread-safety: thread-compatible.

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "rove/core/ini.h"
-#include "rove/maps/map_config.h"
+#include "rove/core/config_section.h"
 #include "rove/maps/metric_map.h"
 #include "rove/maps/point_map.h"
 
@@ -28,16 +28,6 @@ enum class PointsMapFlavor : std::uint8_t {
   kWeighted = 2,   ///< CWeightedPointsMap ("weightedPointsMap")
   kIntensity = 3,  ///< CPointsMapXYZI: intensity channel
 };
-
-/// Loads MRPT's CPointsMap::TInsertionOptions keys present in `section`
-/// (`minDistBetweenLaserPoints`, `horizontalTolerance` in degrees,
-/// `addToExistingPointsMap`, `also_interpolate`, `disableDeletion`,
-/// `fuseWithExisting`, `isPlanarMap`, `maxDistForInterpolatePoints`,
-/// `insertInvalidPoints`) over MRPT's defaults.
-PointMapInsertionOptions load_point_map_insertion_options(const ConfigSection& section);
-/// Loads `sigma_dist`, `max_corr_distance`, `decimation` (MRPT's
-/// CPointsMap::TLikelihoodOptions) over the defaults.
-PointMapLikelihoodOptions load_point_map_likelihood_options(const ConfigSection& section);
 
 /// A point map as a MetricMap. Thread-safety: as PointMap.
 class PointsMetricMap final : public MetricMap {

@@ -39,7 +39,7 @@
 #include <vector>
 
 #include "rove/core/ini.h"
-#include "rove/maps/map_config.h"
+#include "rove/core/config_section.h"
 #include "rove/maps/metric_map.h"
 
 namespace rove {

@@ -37,6 +37,7 @@
 #include <mutex>
 #include <optional>
 
+#include "rove/core/config_section.h"
 #include "rove/maps/kdtree.h"
 #include "rove/maps/point_cloud.h"
 #include "rove/obs/range_image_3d.h"
@@ -60,6 +61,13 @@ struct PointMapInsertionOptions {
   float horizontal_tolerance = static_cast<float>(0.05 * 3.14159265358979323846 / 180.0);
   float max_dist_for_interpolate = 2.0f;     ///< meters (`maxDistForInterpolatePoints`)
   bool insert_invalid_points = false;        ///< `insertInvalidPoints`
+
+  /// MRPT's CPointsMap::TInsertionOptions keys present in `section`
+  /// (`minDistBetweenLaserPoints`, `horizontalTolerance` in degrees,
+  /// `addToExistingPointsMap`, `also_interpolate`, `disableDeletion`,
+  /// `fuseWithExisting`, `isPlanarMap`, `maxDistForInterpolatePoints`,
+  /// `insertInvalidPoints`) over MRPT's defaults.
+  static PointMapInsertionOptions from_config(const ConfigSection& section);
 };
 
 /// MRPT's CPointsMap::TLikelihoodOptions, same defaults.
@@ -67,6 +75,10 @@ struct PointMapLikelihoodOptions {
   double sigma_dist = 0.0025;      ///< m², > 0
   double max_corr_distance = 1.0;  ///< meters, > 0
   std::uint32_t decimation = 10;   ///< use one scan point in this many, >= 1
+
+  /// `sigma_dist`, `max_corr_distance`, `decimation` (MRPT's
+  /// CPointsMap::TLikelihoodOptions) present in `section`, over the defaults.
+  static PointMapLikelihoodOptions from_config(const ConfigSection& section);
 };
 
 /// See the file comment.

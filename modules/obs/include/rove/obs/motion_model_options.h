@@ -30,7 +30,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "rove/core/ini.h"
+#include "rove/core/config_section.h"
 #include "rove/serialization/archive.h"
 
 namespace rove {
@@ -107,13 +107,12 @@ struct MotionModelOptions {
   /// Thrun model parameters.
   ThrunMotionOptions thrun;
 
-  /// Reads the keys listed in this file's comment from `section`; missing
-  /// keys keep their current values. Throws ConfigError (file, section,
-  /// key) on a malformed, negative or non-finite value, an unknown model
-  /// name, or nParticlesCount = 0.
-  void load(const IniFile& ini, std::string_view section);
-  /// Defaults overridden by the keys present in `section`.
-  static MotionModelOptions from_ini(const IniFile& ini, std::string_view section);
+  /// Defaults overridden by the keys listed in this file's comment that are
+  /// present in `section`. Throws ConfigError (file, section, key) on a
+  /// malformed, negative or non-finite value, an unknown model name, or
+  /// nParticlesCount = 0. Other keys are left unread (the caller decides
+  /// whether the section may hold more: ConfigSection::check_all_read).
+  static MotionModelOptions from_config(const ConfigSection& section);
 
   /// Throws InvalidArgument unless both parameter sets pass their checks.
   void check() const;

@@ -46,7 +46,7 @@
 
 #include <Eigen/Core>
 
-#include "rove/core/ini.h"
+#include "rove/core/config_section.h"
 #include "rove/math/robust_kernel.h"
 #include "rove/poses/pdf_gaussian2.h"
 #include "rove/poses/pdf_sog.h"
@@ -187,17 +187,15 @@ struct Icp2dOptions {
 
   /// Throws InvalidArgument naming the first field out of range.
   void check() const;
+
+  /// An [ICP] section of an MRPT-style INI file over the defaults. MRPT's
+  /// keys that rove accepts without using them (skip_quality_calculation)
+  /// are read and ignored. Strict: a key of the section that is not an ICP
+  /// option, a malformed value, or options that check() rejects are a
+  /// ConfigError naming the file, section and key.
+  static Icp2dOptions from_config(const ConfigSection& section);
 };
 
-/// Reads an [ICP] section of an MRPT-style INI file. Keys that are absent
-/// keep their defaults; MRPT's keys that rove accepts without using them
-/// (skip_quality_calculation) are read and ignored.
-/// Keys of the section that are not ICP options are returned in
-/// `unknown_keys` when it is not null, and are a ConfigError (naming the
-/// file, section and key) when it is null. Malformed values are a
-/// ConfigError. The options are check()ed (ConfigError on violation).
-Icp2dOptions icp_2d_options_from_ini(const IniFile& ini, std::string_view section = "ICP",
-                                     std::vector<std::string>* unknown_keys = nullptr);
 
 /// Result of icp_2d.
 struct Icp2dResult {

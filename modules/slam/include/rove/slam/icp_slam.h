@@ -37,7 +37,7 @@
 #include <Eigen/Core>
 
 #include "rove/core/ini.h"
-#include "rove/maps/map_config.h"
+#include "rove/core/config_section.h"
 #include "rove/maps/multi_metric_map.h"
 #include "rove/obs/action_collection.h"
 #include "rove/obs/observation.h"

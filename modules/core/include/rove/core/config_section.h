@@ -1,15 +1,21 @@
 #pragma once
 /// \file
-/// Reading a map's options from one section of an MRPT-style INI file with
-/// MRPT's defaults, strictly: a key the options do not know is reported by
-/// name (file, section, key, line) instead of being silently ignored, as
-/// MRPT does. Keys that MRPT's own files carry but that have no effect in
-/// rove (image-feature options, options MRPT itself no longer reads) are
-/// accepted and listed, so a user can see what was not applied.
+/// Reading an algorithm's or a map's options from one section of an
+/// MRPT-style INI file with MRPT's defaults, strictly: a key the options do
+/// not know is reported by name (file, section, key, line) instead of being
+/// silently ignored, as MRPT does. Keys that MRPT's own files carry but that
+/// have no effect in rove (image-feature options, options MRPT itself no
+/// longer reads) are accepted and listed, so a user can see what was not
+/// applied.
+///
+/// Every options struct that a config file can set has the same loader:
+///   static Options from_config(const ConfigSection& section);
+/// starting from the documented defaults and overriding the keys present.
 
 #include <initializer_list>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "rove/core/ini.h"
@@ -23,7 +29,7 @@ struct IgnoredConfigKey {
   std::string reason;   ///< why it has no effect
 };
 
-/// One section of an IniFile seen by a map's option loader. A missing
+/// One section of an IniFile seen by an options loader. A missing
 /// section reads as empty (every option keeps its default), as in MRPT.
 /// Not thread-safe (it records ignored keys through the pointer it holds).
 class ConfigSection {
@@ -45,6 +51,20 @@ class ConfigSection {
   template <IniScalar T>
   T get(std::string_view key, const T& fallback) const {
     return ini_->get_or<T>(section_, key, fallback);
+  }
+  /// The enumerator named by `key` (MRPT's names, or the enumerator's
+  /// number), or `fallback` if absent. Throws ConfigError listing the names
+  /// if the value is none of them.
+  template <typename E>
+    requires std::is_enum_v<E>
+  E get_enum(std::string_view key, E fallback, std::initializer_list<IniEnumName<E>> names) const {
+    return has(key) ? ini_->get_enum<E>(section_, key, names) : fallback;
+  }
+  /// The list value of `key` (MRPT's "[a b c]" or "a b c"), or `fallback` if
+  /// absent.
+  template <IniScalar T>
+  std::vector<T> get_vector(std::string_view key, std::vector<T> fallback) const {
+    return has(key) ? ini_->get_vector<T>(section_, key) : fallback;
   }
   /// As get(), and throws ConfigError unless lo <= value <= hi.
   double get_in_range(std::string_view key, double fallback, double lo, double hi) const;

@@ -1,4 +1,4 @@
-#include "rove/maps/map_config.h"
+#include "rove/core/config_section.h"
 
 #include <algorithm>
 #include <cctype>
