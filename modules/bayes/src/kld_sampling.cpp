@@ -26,11 +26,10 @@ void KldOptions::check() const {
                  "KLD_minSamplesPerBin must be finite and >= 0, got {}", min_samples_per_bin);
 }
 
-KldOptions KldOptions::from_ini(const IniFile& ini, std::string_view section,
-                                std::vector<std::string>* unknown_keys,
-                                std::vector<std::string>* ignored_keys) {
+KldOptions KldOptions::from_config(const ConfigSection& section) {
   KldOptions o;
-  const std::string s(section);
+  const IniFile& ini = section.ini();
+  const std::string& s = section.name();
   o.bin_size_xy = ini.get_or<double>(s, "KLD_binSize_XY", o.bin_size_xy);
   o.bin_size_phi = ini.get_or<double>(s, "KLD_binSize_PHI", o.bin_size_phi * 180.0 / std::numbers::pi) *
                    std::numbers::pi / 180.0;
@@ -39,16 +38,9 @@ KldOptions KldOptions::from_ini(const IniFile& ini, std::string_view section,
   o.min_sample_size = ini.get_or<unsigned>(s, "KLD_minSampleSize", o.min_sample_size);
   o.max_sample_size = ini.get_or<unsigned>(s, "KLD_maxSampleSize", o.max_sample_size);
   o.min_samples_per_bin = ini.get_or<double>(s, "KLD_minSamplesPerBin", o.min_samples_per_bin);
-  if (ini.has(s, "KLD_binSize_PHI_deg")) {
-    (void)ini.raw(s, "KLD_binSize_PHI_deg");  // counts as read: known, without effect
-    if (ignored_keys) ignored_keys->push_back("KLD_binSize_PHI_deg");
-  }
-  const auto unread = ini.unread_keys(s);
-  if (unknown_keys) {
-    *unknown_keys = unread;
-  } else if (!unread.empty()) {
-    throw ConfigError(ini.source(), s, unread.front(), "unknown KLD option");
-  }
+  section.ignore({"KLD_binSize_PHI_deg"},
+                 "MRPT 2.5 reads KLD_binSize_PHI (degrees), not this key");
+  section.check_all_read();
   try {
     o.check();
   } catch (const InvalidArgument& e) {

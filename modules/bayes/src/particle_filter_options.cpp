@@ -37,10 +37,10 @@ void ParticleFilterOptions::check() const {
                  mrpt_name(resampling_method));
 }
 
-ParticleFilterOptions ParticleFilterOptions::from_ini(const IniFile& ini, std::string_view section,
-                                                      std::vector<std::string>* unknown_keys) {
+ParticleFilterOptions ParticleFilterOptions::from_config(const ConfigSection& section) {
   ParticleFilterOptions o;
-  const std::string s(section);
+  const IniFile& ini = section.ini();
+  const std::string& s = section.name();
   if (ini.has(s, "PF_algorithm")) {
     o.algorithm = ini.get_enum<ParticleFilterAlgorithm>(
         s, "PF_algorithm",
@@ -68,12 +68,7 @@ ParticleFilterOptions ParticleFilterOptions::from_ini(const IniFile& ini, std::s
   o.first_stage_weights_monte_carlo = ini.get_or<bool>(
       s, "pfAuxFilterStandard_FirstStageWeightsMonteCarlo", o.first_stage_weights_monte_carlo);
   o.aux_optimal_mle = ini.get_or<bool>(s, "pfAuxFilterOptimal_MLE", o.aux_optimal_mle);
-  const auto unread = ini.unread_keys(s);
-  if (unknown_keys) {
-    *unknown_keys = unread;
-  } else if (!unread.empty()) {
-    throw ConfigError(ini.source(), s, unread.front(), "unknown particle-filter option");
-  }
+  section.check_all_read();
   try {
     o.check();
   } catch (const InvalidArgument& e) {

@@ -78,42 +78,44 @@ TEST(Kld, BinsRoundAsMrpt) {
   EXPECT_NO_THROW(kld_bin(1e300, 0.0, 0.0, o));
 }
 
+// The KLD options of `section` in the INI text.
+KldOptions kld(const std::string& text, const std::string& section = "KLD_options",
+               const std::string& file = "<string>") {
+  const IniFile ini = IniFile::parse(text, file);
+  return KldOptions::from_config(ConfigSection(ini, section));
+}
+
 TEST(Kld, LoadsMrptSection) {
   const auto ini = IniFile::parse(
       "[KLD_options]\nKLD_binSize_PHI_deg=10\nKLD_binSize_XY=0.10\nKLD_delta=0.01\n"
       "KLD_epsilon=0.01\nKLD_maxSampleSize=40000\nKLD_minSampleSize=150\n"
       "KLD_minSamplesPerBin=0   \n",
       "demo.ini");
-  std::vector<std::string> ignored;
-  const auto o = KldOptions::from_ini(ini, "KLD_options", nullptr, &ignored);
+  std::vector<IgnoredConfigKey> ignored;
+  const auto o = KldOptions::from_config(ConfigSection(ini, "KLD_options", &ignored));
   EXPECT_EQ(o.bin_size_xy, 0.10);
   EXPECT_NEAR(o.bin_size_phi, 5.0 * std::numbers::pi / 180.0, 1e-15);  // MRPT's default stays
   EXPECT_EQ(o.epsilon, 0.01);
   EXPECT_EQ(o.min_sample_size, 150u);
   EXPECT_EQ(o.max_sample_size, 40000u);
-  EXPECT_EQ(ignored, std::vector<std::string>{"KLD_binSize_PHI_deg"});
-  const auto phi = IniFile::parse("[K]\nKLD_binSize_PHI=20\n");
-  EXPECT_NEAR(KldOptions::from_ini(phi, "K").bin_size_phi, 20.0 * std::numbers::pi / 180.0, 1e-15);
-  EXPECT_EQ(KldOptions::from_ini(IniFile::parse(""), "KLD_options"), KldOptions{});
+  ASSERT_EQ(ignored.size(), 1u);
+  EXPECT_EQ(ignored[0].key, "KLD_binSize_PHI_deg");
+  EXPECT_NEAR(kld("[K]\nKLD_binSize_PHI=20\n", "K").bin_size_phi, 20.0 * std::numbers::pi / 180.0,
+              1e-15);
+  EXPECT_EQ(kld(""), KldOptions{});
 }
 
 TEST(Kld, RejectsUnknownAndInvalidKeys) {
-  const auto unknown = IniFile::parse("[KLD_options]\nKLD_binSize_Z=3\n", "a.ini");
   try {
-    (void)KldOptions::from_ini(unknown);
+    (void)kld("[KLD_options]\nKLD_binSize_Z=3\n", "KLD_options", "a.ini");
     FAIL() << "no error";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("KLD_binSize_Z"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("a.ini"), std::string::npos) << e.what();
   }
-  std::vector<std::string> unknown_keys;
-  (void)KldOptions::from_ini(unknown, "KLD_options", &unknown_keys);
-  EXPECT_EQ(unknown_keys, std::vector<std::string>{"KLD_binSize_Z"});
-  EXPECT_THROW(KldOptions::from_ini(IniFile::parse("[KLD_options]\nKLD_epsilon=0\n")), ConfigError);
-  EXPECT_THROW(KldOptions::from_ini(IniFile::parse("[KLD_options]\nKLD_delta=abc\n")), ConfigError);
-  EXPECT_THROW(KldOptions::from_ini(IniFile::parse(
-                   "[KLD_options]\nKLD_minSampleSize=10\nKLD_maxSampleSize=5\n")),
-               ConfigError);
+  EXPECT_THROW(kld("[KLD_options]\nKLD_epsilon=0\n"), ConfigError);
+  EXPECT_THROW(kld("[KLD_options]\nKLD_delta=abc\n"), ConfigError);
+  EXPECT_THROW(kld("[KLD_options]\nKLD_minSampleSize=10\nKLD_maxSampleSize=5\n"), ConfigError);
 }
 
 }  // namespace

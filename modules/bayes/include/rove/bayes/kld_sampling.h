@@ -24,7 +24,7 @@
 #include <unordered_set>
 #include <vector>
 
-#include "rove/core/ini.h"
+#include "rove/core/config_section.h"
 #include "rove/math/se2.h"
 
 namespace rove {
@@ -57,14 +57,11 @@ struct KldOptions {
   /// KLD_minSampleSize, KLD_maxSampleSize, KLD_minSamplesPerBin).
   /// `KLD_binSize_PHI_deg`, which MRPT's own pf-localization files carry,
   /// is read by MRPT 2.5 as no key at all (it reads `KLD_binSize_PHI`, in
-  /// degrees): rove accepts it without effect, as MRPT, and lists it in
-  /// `ignored_keys` (when not null) so a caller can warn. Other keys of the
-  /// section are returned in `unknown_keys` when it is not null and are a
-  /// ConfigError (file, section, key) when it is null. Malformed values and
-  /// options check() rejects are a ConfigError.
-  static KldOptions from_ini(const IniFile& ini, std::string_view section = "KLD_options",
-                             std::vector<std::string>* unknown_keys = nullptr,
-                             std::vector<std::string>* ignored_keys = nullptr);
+  /// degrees): rove accepts it without effect, as MRPT, and records it
+  /// through ConfigSection::ignore so a caller can warn. Strict: any other
+  /// key of the section, a malformed value or options check() rejects are a
+  /// ConfigError (file, section, key).
+  static KldOptions from_config(const ConfigSection& section);
 
   /// Exact equality.
   friend bool operator==(const KldOptions&, const KldOptions&) = default;

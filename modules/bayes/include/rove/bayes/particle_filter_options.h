@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "rove/bayes/resampling.h"
-#include "rove/core/ini.h"
+#include "rove/core/config_section.h"
 
 namespace rove {
 
@@ -84,11 +84,9 @@ struct ParticleFilterOptions {
   /// pfAuxFilterOptimal_MaximumSearchSamples, powFactor,
   /// max_loglikelihood_dyn_range,
   /// pfAuxFilterStandard_FirstStageWeightsMonteCarlo, pfAuxFilterOptimal_MLE.
-  /// Other keys are returned in `unknown_keys` when it is not null and are a
-  /// ConfigError (file, section, key) when it is null. Malformed values and
-  /// options check() rejects are a ConfigError.
-  static ParticleFilterOptions from_ini(const IniFile& ini, std::string_view section = "PF_options",
-                                        std::vector<std::string>* unknown_keys = nullptr);
+  /// Strict: any other key of the section, a malformed value or options
+  /// check() rejects are a ConfigError (file, section, key).
+  static ParticleFilterOptions from_config(const ConfigSection& section);
 
   /// Exact equality.
   friend bool operator==(const ParticleFilterOptions&, const ParticleFilterOptions&) = default;
