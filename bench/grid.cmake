@@ -4,7 +4,7 @@
 find_package(MRPT 2.5 QUIET COMPONENTS maps obs poses io serialization)
 if(MRPT_FOUND)
   rove_add_bench(bench_grid_vs_mrpt SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/grid_vs_mrpt.cpp
-                 LIBS rove::maps mrpt::maps mrpt::obs mrpt::poses mrpt::io mrpt::serialization)
+                 LIBS rove::io mrpt::maps mrpt::obs mrpt::poses mrpt::io mrpt::serialization)
   target_compile_definitions(bench_grid_vs_mrpt PRIVATE
     ROVE_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/datasets/mrpt")
 else()

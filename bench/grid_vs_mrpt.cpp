@@ -16,10 +16,10 @@
 #include <memory>
 #include <vector>
 
+#include "rove/io/rawlog_reader.h"
 #include "rove/maps/grid_insertion.h"
 #include "rove/maps/grid_likelihood.h"
 #include "rove/maps/occupancy_grid.h"
-#include "rove/obs/rawlog_reader.h"
 
 namespace {
 

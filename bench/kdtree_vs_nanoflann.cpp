@@ -19,9 +19,9 @@
 #include <benchmark/benchmark.h>
 #include <nanoflann.hpp>
 
+#include "rove/io/pcd.h"
+#include "rove/io/ply.h"
 #include "rove/maps/kdtree.h"
-#include "rove/maps/pcd.h"
-#include "rove/maps/ply.h"
 #include "rove/maps/point_cloud.h"
 #include "rove/maps/voxel_grid.h"
 

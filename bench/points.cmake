@@ -11,7 +11,7 @@ endif()
 find_package(PCL 1.13 QUIET COMPONENTS common io filters kdtree)
 if(PCL_FOUND)
   rove_add_bench(bench_points_vs_pcl SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/points_vs_pcl.cpp
-                 LIBS rove::maps ${PCL_LIBRARIES})
+                 LIBS rove::io ${PCL_LIBRARIES})
   target_include_directories(bench_points_vs_pcl SYSTEM PRIVATE ${PCL_INCLUDE_DIRS})
   target_compile_definitions(bench_points_vs_pcl PRIVATE ${PCL_DEFINITIONS}
     ROVE_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/datasets/pointcloud")

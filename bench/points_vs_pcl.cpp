@@ -14,8 +14,8 @@
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
 
+#include "rove/io/pcd.h"
 #include "rove/maps/kdtree.h"
-#include "rove/maps/pcd.h"
 #include "rove/maps/voxel_grid.h"
 
 namespace {

@@ -9,7 +9,7 @@ find_package(PCL 1.13 QUIET COMPONENTS common io filters kdtree registration)
 if(PCL_FOUND)
   rove_add_bench(bench_registration_vs_pcl
                  SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/registration_vs_pcl.cpp
-                 LIBS rove::registration ${PCL_LIBRARIES})
+                 LIBS rove::registration rove::io ${PCL_LIBRARIES})
   target_include_directories(bench_registration_vs_pcl SYSTEM PRIVATE ${PCL_INCLUDE_DIRS})
   target_compile_definitions(bench_registration_vs_pcl PRIVATE ${PCL_DEFINITIONS}
     ROVE_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/datasets/pointcloud"

@@ -54,8 +54,8 @@
 #include <pcl/registration/ndt.h>
 #include <pcl/registration/transformation_estimation_point_to_plane_lls.h>
 
-#include "rove/maps/pcd.h"
-#include "rove/maps/ply.h"
+#include "rove/io/pcd.h"
+#include "rove/io/ply.h"
 #include "rove/maps/voxel_grid.h"
 #include "rove/registration/icp_3d.h"
 #include "rove/registration/icp_3d_multi_resolution.h"

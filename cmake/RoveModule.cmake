@@ -7,7 +7,7 @@
 #   executable registered with CTest. A DEPS entry must name a module that comes
 #   earlier in ROVE_MODULE_ORDER: dependencies only point down the stack.
 
-set(ROVE_MODULE_ORDER core serialization math poses obs maps registration bayes graph
+set(ROVE_MODULE_ORDER core serialization math poses obs maps io registration bayes graph
     vision slam nav viz)
 
 # Tests that read the large shared datasets (not part of a clone): GoogleTest

@@ -21,14 +21,14 @@
 #include <variant>
 
 #include "rove/core/error.h"
-#include "rove/obs/any_rawlog.h"
+#include "rove/io/any_rawlog.h"
+#include "rove/io/rove_rawlog.h"
 #include "rove/obs/gps_observation.h"
 #include "rove/obs/image_observation.h"
 #include "rove/obs/imu_observation.h"
 #include "rove/obs/range_image_3d.h"
 #include "rove/obs/range_scan_2d.h"
 #include "rove/obs/rotating_scan.h"
-#include "rove/obs/rove_rawlog.h"
 #include "rove/serialization/memory_stream.h"
 
 namespace {

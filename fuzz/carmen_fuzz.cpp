@@ -9,7 +9,7 @@
 #include <string>
 
 #include "rove/core/error.h"
-#include "rove/obs/carmen_log.h"
+#include "rove/io/carmen_log.h"
 
 namespace {
 

@@ -13,12 +13,12 @@
 #include <string_view>
 
 #include "rove/core/error.h"
-#include "rove/maps/gray_image.h"
-#include "rove/maps/grid_binary.h"
+#include "rove/io/gray_image.h"
+#include "rove/io/grid_binary.h"
+#include "rove/io/grid_image.h"
+#include "rove/io/mrpt_gridmap.h"
+#include "rove/io/ros_map_yaml.h"
 #include "rove/maps/grid_entropy.h"
-#include "rove/maps/grid_image.h"
-#include "rove/maps/mrpt_gridmap.h"
-#include "rove/maps/ros_map_yaml.h"
 #include "rove/serialization/memory_stream.h"
 
 namespace {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "rove/core/error.h"
-#include "rove/maps/lzf.h"
+#include "rove/io/lzf.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 2) return 0;

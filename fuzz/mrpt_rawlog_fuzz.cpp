@@ -12,10 +12,10 @@
 #include <variant>
 
 #include "rove/core/error.h"
+#include "rove/io/mrpt_simplemap.h"
+#include "rove/io/rawlog_reader.h"
 #include "rove/obs/gps_observation.h"
-#include "rove/obs/mrpt_simplemap.h"
 #include "rove/obs/range_image_3d.h"
-#include "rove/obs/rawlog_reader.h"
 #include "rove/obs/rotating_scan.h"
 #include "rove/serialization/memory_stream.h"
 

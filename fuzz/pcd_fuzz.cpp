@@ -7,7 +7,7 @@
 #include <cstdlib>
 
 #include "rove/core/error.h"
-#include "rove/maps/pcd.h"
+#include "rove/io/pcd.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   rove::PointCloud c;

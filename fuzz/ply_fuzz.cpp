@@ -6,7 +6,7 @@
 #include <cstdlib>
 
 #include "rove/core/error.h"
-#include "rove/maps/ply.h"
+#include "rove/io/ply.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   rove::PointCloud c;

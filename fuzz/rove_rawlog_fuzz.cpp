@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "rove/core/error.h"
-#include "rove/obs/rove_rawlog.h"
+#include "rove/io/rove_rawlog.h"
 #include "rove/serialization/memory_stream.h"
 
 namespace {

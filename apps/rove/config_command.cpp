@@ -11,8 +11,8 @@
 #include "rove/core/files.h"
 #include "rove/core/ini.h"
 #include "rove/core/json.h"
-#include "rove/maps/metric_map_builder.h"
 #include "rove/slam/icp_slam.h"
+#include "rove/slam/metric_map_builder.h"
 
 namespace rove::cli {
 

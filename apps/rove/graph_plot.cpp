@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "rove/core/check.h"
-#include "rove/maps/gray_image.h"
+#include "rove/io/gray_image.h"
 
 namespace rove::cli {
 namespace {

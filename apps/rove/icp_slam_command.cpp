@@ -15,17 +15,17 @@
 #include "report.h"
 #include "rove/core/error.h"
 #include "rove/core/files.h"
+#include "rove/core/ini.h"
 #include "rove/core/interrupt.h"
 #include "rove/core/json.h"
-#include "rove/core/ini.h"
 #include "rove/core/progress.h"
 #include "rove/core/timer.h"
+#include "rove/io/mrpt_simplemap_writer.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
 #include "rove/maps/metric_map_points.h"
 #include "rove/slam/icp_slam.h"
 #include "rove/slam/icp_slam_run.h"
 #include "rove/slam/map_export.h"
-#include "rove/slam/mrpt_simplemap_writer.h"
 
 namespace rove::cli {
 namespace {

@@ -16,14 +16,15 @@
 #include "rove/core/ini.h"
 #include "rove/core/json.h"
 #include "rove/core/memory_budget.h"
-#include "rove/maps/grid_binary.h"
+#include "rove/io/grid_binary.h"
+#include "rove/io/grid_image.h"
+#include "rove/io/metric_map_files.h"
+#include "rove/io/mrpt_gridmap.h"
 #include "rove/maps/grid_clearance.h"
 #include "rove/maps/grid_entropy.h"
-#include "rove/maps/grid_image.h"
-#include "rove/maps/metric_map_builder.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
-#include "rove/maps/mrpt_gridmap.h"
 #include "rove/maps/multi_metric_map.h"
+#include "rove/slam/metric_map_builder.h"
 
 namespace rove::cli {
 
@@ -98,7 +99,7 @@ void run_map_build(const MapBuildArgs& a) {
   std::error_code ec;
   fs::create_directories(a.out_dir, ec);
   if (ec) throw IoError(printable(a.out_dir), "cannot create the output folder: " + ec.message());
-  auto files = mm.save((fs::path(a.out_dir) / "map").string());
+  auto files = save_metric_map((fs::path(a.out_dir) / "map").string(), mm);
   // Occupancy grids also as a ROS map_server map (map_saver's trinary PNG + yaml).
   for (std::size_t i = 0; i < mm.size(); ++i) {
     const auto& e = mm.entries()[i];

@@ -1,7 +1,7 @@
 # End-to-end tests of `rove map build` (included by apps/CMakeLists.txt).
 # They check values against MRPT 2.5.8 on the same input: the point count
 # and grid size MRPT's CMultiMetricMap produces from localization_demo's
-# simplemap with MRPT's own config files (modules/maps/tests/data/).
+# simplemap with MRPT's own config files (modules/slam/tests/data/).
 
 set(rove_map_dir ${CMAKE_CURRENT_BINARY_DIR}/map_tests)
 file(MAKE_DIRECTORY ${rove_map_dir})
@@ -87,7 +87,7 @@ set_tests_properties(cli.map_convert_yaw_rejected PROPERTIES LABELS cli FIXTURES
 # mapped (GridEntropy.MatchesMrptComputeEntropyOnMrptGrids ties these
 # numbers to MRPT's computeEntropy).
 add_test(NAME cli.map_convert_prints_entropy COMMAND rove map convert
-  ${PROJECT_SOURCE_DIR}/modules/maps/tests/data/grid_uwb_demo.gridmap.gz ${rove_map_dir}/uwb.rovegrid)
+  ${PROJECT_SOURCE_DIR}/modules/io/tests/data/grid_uwb_demo.gridmap.gz ${rove_map_dir}/uwb.rovegrid)
 set_tests_properties(cli.map_convert_prints_entropy PROPERTIES LABELS cli
   PASS_REGULAR_EXPRESSION "700 x 650 cells of 0\\.04 m[^\n]*\n    entropy [0-9.]+ nats, information [0-9.]+ \\(100684 mapped cells, 161\\.09 m2")
 
@@ -95,12 +95,12 @@ set_tests_properties(cli.map_convert_prints_entropy PROPERTIES LABELS cli
 # no diagram cell has less than 0.2 m of clearance (the nearest possible is
 # √26 cells = 0.204 m), and the image is written.
 add_test(NAME cli.map_voronoi COMMAND rove map voronoi --robot-size 0.2
-  ${PROJECT_SOURCE_DIR}/modules/maps/tests/data/grid_uwb_demo.gridmap.gz -o ${rove_map_dir}/uwb_voronoi.png)
+  ${PROJECT_SOURCE_DIR}/modules/io/tests/data/grid_uwb_demo.gridmap.gz -o ${rove_map_dir}/uwb_voronoi.png)
 set_tests_properties(cli.map_voronoi PROPERTIES LABELS cli
   PASS_REGULAR_EXPRESSION "voronoi diagram: [1-9][0-9]* cells \\([0-9.]+ m\\), clearance 0\\.(20[4-9]|2[1-9][0-9]|[3-9][0-9][0-9]) to [0-9.]+ m\n  wrote [^\n]*uwb_voronoi\\.png")
 # ...an unknown image kind is refused before any work.
 add_test(NAME cli.map_voronoi_bad_output COMMAND rove map voronoi
-  ${PROJECT_SOURCE_DIR}/modules/maps/tests/data/grid_uwb_demo.gridmap.gz -o ${rove_map_dir}/uwb_voronoi.jpg)
+  ${PROJECT_SOURCE_DIR}/modules/io/tests/data/grid_uwb_demo.gridmap.gz -o ${rove_map_dir}/uwb_voronoi.jpg)
 set_tests_properties(cli.map_voronoi_bad_output PROPERTIES LABELS cli
   PASS_REGULAR_EXPRESSION "uwb_voronoi\\.jpg: expected a \\.png or \\.pgm image")
 

@@ -11,7 +11,7 @@ rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 
 cp "$src/data/mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog" log.rawlog
 cp "$src/data/mrpt/icp-slam_demo_classic.ini" slam.ini
-cp "$src/modules/maps/tests/data/grid_uwb_demo.gridmap.gz" uwb.gridmap.gz
+cp "$src/modules/io/tests/data/grid_uwb_demo.gridmap.gz" uwb.gridmap.gz
 grid_ini() {  # grid_ini RESOLUTION MIN MAX
   printf '[M]\noccupancyGrid_count=1\n[M_occupancyGrid_00_creationOpts]\nresolution=%s\nmin_x=%s\nmax_x=%s\nmin_y=%s\nmax_y=%s\n' \
     "$1" "$2" "$3" "$2" "$3"

@@ -6,7 +6,7 @@ set(rove_rawlog_dir ${CMAKE_CURRENT_BINARY_DIR}/rawlog_tests)
 file(MAKE_DIRECTORY ${rove_rawlog_dir})
 set(rove_rawlog_sena
   ${PROJECT_SOURCE_DIR}/data/mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog)
-set(rove_rawlog_data ${PROJECT_SOURCE_DIR}/modules/obs/tests/data)
+set(rove_rawlog_data ${PROJECT_SOURCE_DIR}/modules/io/tests/data)
 
 # check_line: line LINE of FILE must equal line REF_LINE of REF (1-based).
 file(WRITE ${rove_rawlog_dir}/check_line.cmake [=[

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <variant>
 
+#include "rove/io/rawlog_reader.h"
 #include "rove/obs/range_scan_2d.h"
-#include "rove/obs/rawlog_reader.h"
 #include "rove/obs/sensory_frame.h"
 
 int main(int argc, char** argv) {

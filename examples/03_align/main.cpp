@@ -10,7 +10,7 @@
 
 #include <Eigen/Geometry>
 
-#include "rove/maps/pcd.h"
+#include "rove/io/pcd.h"
 #include "rove/registration/icp_3d_multi_resolution.h"
 
 int main(int argc, char** argv) {

@@ -9,7 +9,6 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
-#include "rove/core/files.h"
 #include "rove/math/statistics.h"
 #include "rove/poses/angle.h"
 
@@ -94,7 +93,9 @@ double max_axis_std(const Eigen::Matrix3d& C) {
   return std::sqrt(std::max({C(0, 0), C(1, 1), C(2, 2), 0.0}));
 }
 
-std::string_view kind_name(BeaconPdfKind k) {
+}  // namespace
+
+std::string_view to_string(BeaconPdfKind k) noexcept {
   switch (k) {
     case BeaconPdfKind::kMonteCarlo: return "montecarlo";
     case BeaconPdfKind::kGaussian: return "gaussian";
@@ -102,8 +103,6 @@ std::string_view kind_name(BeaconPdfKind k) {
   }
   return "unknown";
 }
-
-}  // namespace
 
 PointGaussian3 Beacon::moments() const {
   switch (kind) {
@@ -450,22 +449,6 @@ MapStatistics BeaconMap::statistics() const {
   s.unit = "beacons";
   s.bounds = bounding_box();
   return s;
-}
-
-std::vector<std::string> BeaconMap::save(const std::string& prefix) const {
-  const std::string path = prefix + "_beacons.txt";
-  std::string f = "% id x y z var_x var_y var_z det2d det3d c_xy c_xz c_yz kind\n";
-  for (const auto& b : beacons_) {
-    const PointGaussian3 g = b.moments();
-    const auto& C = g.covariance;
-    f += fmt::format("{} {:.6f} {:.6f} {:.6f} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} "
-                     "{:.6e} {}\n",
-                     b.id, g.mean.x(), g.mean.y(), g.mean.z(), C(0, 0), C(1, 1), C(2, 2),
-                     C.topLeftCorner<2, 2>().determinant(), C.determinant(), C(0, 1), C(0, 2),
-                     C(1, 2), kind_name(b.kind));
-  }
-  write_text_file_atomically(path, f);
-  return {path};
 }
 
 }  // namespace rove

@@ -10,7 +10,6 @@
 #include "rove/core/check.h"
 #include "rove/core/error.h"
 #include "rove/core/memory_budget.h"
-#include "rove/core/files.h"
 #include "rove/obs/range_image_3d.h"
 #include "rove/obs/range_scan_2d.h"
 
@@ -203,27 +202,6 @@ MapStatistics HeightMap::statistics() const {
   s.total_cells = cells_.size();
   s.bounds = bounding_box();
   return s;
-}
-
-std::vector<std::string> HeightMap::save(const std::string& prefix) const {
-  std::vector<std::string> out;
-  for (const bool means : {true, false}) {
-    const std::string path = prefix + (means ? "_mean.txt" : "_count.txt");
-    std::string f;
-    for (std::uint32_t cy = 0; cy < size_y_; ++cy) {
-      std::string line;
-      for (std::uint32_t cx = 0; cx < size_x_; ++cx) {
-        const auto& c = cells_[cx + static_cast<std::size_t>(cy) * size_x_];
-        if (cx > 0) line += ' ';
-        line += means ? fmt::format("{:.6g}", c.mean_z) : fmt::format("{}", c.count);
-      }
-      f += line;
-      f += '\n';
-    }
-    write_text_file_atomically(path, f);
-    out.push_back(path);
-  }
-  return out;
 }
 
 }  // namespace rove

@@ -10,7 +10,6 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
-#include "rove/core/files.h"
 #include "rove/obs/beacon_ranges.h"
 #include "rove/poses/angle.h"
 
@@ -317,19 +316,6 @@ MapStatistics LandmarkMap::statistics() const {
   s.unit = "landmarks";
   s.bounds = bounding_box();
   return s;
-}
-
-std::vector<std::string> LandmarkMap::save(const std::string& prefix) const {
-  const std::string path = prefix + "_landmarks.txt";
-  std::string f = "% id x y z c_xx c_yy c_zz c_xy c_xz c_yz times_seen\n";
-  for (const auto& l : landmarks_) {
-    const auto& C = l.position.covariance;
-    f += fmt::format("{} {:.6f} {:.6f} {:.6f} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {}\n",
-                     l.id, l.position.mean.x(), l.position.mean.y(), l.position.mean.z(), C(0, 0),
-                     C(1, 1), C(2, 2), C(0, 1), C(0, 2), C(1, 2), l.times_seen);
-  }
-  write_text_file_atomically(path, f);
-  return {path};
 }
 
 }  // namespace rove

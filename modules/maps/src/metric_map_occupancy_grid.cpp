@@ -7,7 +7,6 @@
 #include <fmt/format.h>
 
 #include "rove/core/error.h"
-#include "rove/core/files.h"
 #include "rove/core/memory_budget.h"
 #include "rove/obs/range_scan_2d.h"
 
@@ -106,28 +105,6 @@ MapStatistics OccupancyGridMetricMap::statistics() const {
   }
   s.bounds = bounding_box();
   return s;
-}
-
-std::vector<std::string> OccupancyGridMetricMap::save(const std::string& prefix) const {
-  const std::string img = prefix + ".pgm";
-  {
-    std::string bytes = fmt::format("P5\n{} {}\n255\n", grid_.size_x(), grid_.size_y());
-    bytes.reserve(bytes.size() + static_cast<std::size_t>(grid_.size_x()) * grid_.size_y());
-    for (std::uint32_t r = 0; r < grid_.size_y(); ++r) {
-      const int cy = static_cast<int>(grid_.size_y() - 1 - r);
-      for (std::uint32_t cx = 0; cx < grid_.size_x(); ++cx) {
-        const float p = grid_.free_probability(static_cast<int>(cx), cy);
-        bytes += static_cast<char>(static_cast<unsigned char>(std::lround(p * 255.0f)));
-      }
-    }
-    write_text_file_atomically(img, bytes);
-  }
-  const std::string lim = prefix + "_limits.txt";
-  write_text_file_atomically(
-      lim, "% Grid limits: [x_min x_max y_min y_max]\n" +
-               fmt::format("{:.6f} {:.6f} {:.6f} {:.6f}\n", grid_.x_min(), grid_.x_max(),
-                           grid_.y_min(), grid_.y_max()));
-  return {img, lim};
 }
 
 std::unique_ptr<MetricMap> make_occupancy_grid_metric_map(const IniFile& ini,

@@ -5,8 +5,6 @@
 #include <fmt/format.h>
 
 #include "rove/core/error.h"
-#include "rove/maps/pcd.h"
-#include "rove/maps/ply.h"
 #include "rove/obs/range_image_3d.h"
 #include "rove/obs/range_scan_2d.h"
 #include "rove/poses/angle.h"
@@ -107,12 +105,6 @@ MapStatistics PointsMetricMap::statistics() const {
   s.unit = "points";
   s.bounds = bounding_box();
   return s;
-}
-
-std::vector<std::string> PointsMetricMap::save(const std::string& prefix) const {
-  write_ply(prefix + ".ply", map_.cloud());
-  write_pcd(prefix + ".pcd", map_.cloud());
-  return {prefix + ".ply", prefix + ".pcd"};
 }
 
 std::unique_ptr<MetricMap> make_points_metric_map(const IniFile& ini, const std::string& p,

@@ -346,14 +346,4 @@ MapStatistics MultiMetricMap::statistics() const {
   return s;
 }
 
-std::vector<std::string> MultiMetricMap::save(const std::string& prefix) const {
-  std::vector<std::string> out;
-  for (std::size_t i = 0; i < entries_.size(); ++i) {
-    const auto files = entries_[i].map->save(
-        fmt::format("{}_{:02}_{}", prefix, i, entries_[i].map->kind()));
-    out.insert(out.end(), files.begin(), files.end());
-  }
-  return out;
-}
-
 }  // namespace rove

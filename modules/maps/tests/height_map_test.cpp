@@ -90,28 +90,6 @@ TEST(HeightMap, ScanPointsAtSensorHeightAndLikelihood) {
   EXPECT_EQ(map.log_likelihood(other, Pose3()), 0.0);
 }
 
-TEST(HeightMap, SavesMrptMatrixLayout) {
-  HeightMapCreationOptions c;
-  c.min_x = 0;
-  c.max_x = 0.3;
-  c.min_y = 0;
-  c.max_y = 0.2;
-  c.resolution = 0.1;
-  HeightMap map(c);
-  map.insert_point({0.25, 0.15, 2.0});
-  const auto dir = std::filesystem::temp_directory_path() / "rove_height_map_test";
-  std::filesystem::create_directories(dir);
-  const auto files = map.save((dir / "h").string());
-  ASSERT_EQ(files.size(), 2u);
-  std::ifstream f(files[0]);
-  std::string l1, l2;
-  std::getline(f, l1);
-  std::getline(f, l2);
-  EXPECT_EQ(l1, "0 0 0");
-  EXPECT_EQ(l2, "0 0 2");
-  std::filesystem::remove_all(dir);
-}
-
 TEST(HeightMapOptions, LoadAndReject) {
   const auto ini = IniFile::parse(
       "[c]\nmin_x=-5\nmax_x=5\nmin_y=-5\nmax_y=5\nresolution=0.25\nmapType=mrSimpleAverage\n"

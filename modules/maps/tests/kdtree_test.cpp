@@ -11,10 +11,8 @@
 #include "rove/core/cpu.h"
 #include "rove/core/error.h"
 #include "rove/maps/point_cloud.h"
-#include "rove/maps/pcd.h"
-#include "rove/maps/ply.h"
 #include "rove/maps/point_cloud_concept.h"
-#include "rove/test_data.h"
+#include "rove/maps_oracles.h"
 
 namespace rove {
 namespace {
@@ -41,38 +39,8 @@ static_assert(!PointCloudLike<std::vector<float>>);
 static_assert(cloud_dim_v<std::vector<Eigen::Vector2f>> == 2);
 static_assert(std::is_same_v<cloud_scalar_t<user::MyCloud>, double>);
 
-template <int Dim, typename Scalar>
-std::vector<Neighbor<Scalar>> brute_all(const std::vector<Eigen::Matrix<Scalar, Dim, 1>>& pts,
-                                        const Eigen::Matrix<Scalar, Dim, 1>& q) {
-  std::vector<Neighbor<Scalar>> all;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    if (!pts[i].allFinite()) continue;
-    Scalar d = 0;
-    for (int k = 0; k < Dim; ++k) d += (q[k] - pts[i][k]) * (q[k] - pts[i][k]);
-    all.push_back({static_cast<std::uint32_t>(i), d});
-  }
-  std::sort(all.begin(), all.end(), [](auto& a, auto& b) {
-    return a.sq_distance < b.sq_distance || (a.sq_distance == b.sq_distance && a.index < b.index);
-  });
-  return all;
-}
-
-// The k-th distances must agree exactly; the indices must agree where the
-// distance is not tied.
-template <typename Scalar>
-void expect_same_knn(const std::vector<Neighbor<Scalar>>& got, const std::vector<Neighbor<Scalar>>& want,
-                     std::size_t k) {
-  const std::size_t n = std::min(k, want.size());
-  ASSERT_EQ(got.size(), n);
-  for (std::size_t i = 0; i < n; ++i) {
-    EXPECT_EQ(got[i].sq_distance, want[i].sq_distance) << "rank " << i;
-    const bool tied = (i > 0 && want[i - 1].sq_distance == want[i].sq_distance) ||
-                      (i + 1 < want.size() && want[i + 1].sq_distance == want[i].sq_distance);
-    if (!tied) {
-      EXPECT_EQ(got[i].index, want[i].index) << "rank " << i;
-    }
-  }
-}
+using test_oracles::brute_all;
+using test_oracles::expect_same_knn;
 
 template <int Dim, typename Scalar>
 void random_check(std::size_t n, std::size_t leaf, unsigned seed, bool with_nans, bool quantized) {
@@ -388,36 +356,6 @@ TEST(KdTree, MoveKeepsTheIndex) {
   KdTree3f c;
   c = std::move(b);
   EXPECT_EQ(c.knn(Eigen::Vector3f(0, 0, 0), 2)[1].index, 1u);
-}
-
-// k nearest in 3D and 2D and radius counts on a real cloud, queried near the
-// points of room_scan2, against brute force.
-void expect_matches_brute_force_on(const PointCloud& cloud) {
-  const PointCloud room2 = read_pcd(test_data::bundled_file("pointcloud/room_scan2.pcd"));
-  for (const PointCloud* c : {&cloud}) {
-    KdTree3f tree(*c);
-    KdTree2f tree2(*c);
-    for (std::size_t t = 0; t < 12; ++t) {
-      const Eigen::Vector3f q = room2[t * 9001 % room2.size()] + Eigen::Vector3f(0.05f, -0.02f, 0.01f);
-      const auto all = brute_all<3, float>(c->points(), q);
-      expect_same_knn(tree.knn(q, 8), all, 8);
-      std::vector<Eigen::Vector2f> xy;
-      for (const auto& p : c->points()) xy.push_back(p.head<2>());
-      const auto all2 = brute_all<2, float>(xy, q.head<2>());
-      expect_same_knn(tree2.knn(q.head<2>(), 4), all2, 4);
-      std::size_t within = 0;
-      for (const auto& a : all) within += a.sq_distance <= 0.2f * 0.2f ? 1 : 0;
-      EXPECT_EQ(tree.radius(q, 0.2f).size(), within);
-    }
-  }
-}
-
-TEST(KdTree, MatchesBruteForceOnTheRealClouds) {
-  expect_matches_brute_force_on(read_pcd(test_data::bundled_file("pointcloud/room_scan1.pcd")));
-}
-
-TEST(KdTreeDatasets, MatchesBruteForceOnTheSmallGicpCloud) {
-  expect_matches_brute_force_on(read_ply(test_data::shared_dataset("pointcloud/small_gicp_target.ply")));
 }
 
 // A hinted search starts at the hint's leaf and searches only the smallest

@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <random>
@@ -16,9 +15,7 @@
 #include "rove/maps/grid_entropy.h"
 #include "rove/maps/grid_insertion.h"
 #include "rove/maps/grid_likelihood.h"
-#include "rove/maps/mrpt_gridmap.h"
 #include "rove/maps/occupancy_grid.h"
-#include "rove/serialization/memory_stream.h"
 
 namespace rove {
 namespace {
@@ -174,37 +171,6 @@ TEST(GridLikelihood, BatchEqualsSingleAndStaleGridIsRejected) {
   EXPECT_THROW(model.log_likelihood(model.prepare(s), Pose2()), InvalidArgument);
   model.refresh();
   EXPECT_NO_THROW(model.log_likelihood(model.prepare(s), Pose2()));
-}
-
-TEST(MrptGridmap, TruncatedAndLyingFilesGiveParseErrors) {
-  const std::string path = ROVE_SOURCE_DIR "/modules/maps/tests/data/grid_uwb_demo.gridmap.gz";
-  EXPECT_NO_THROW(load_mrpt_gridmap(path));
-  EXPECT_THROW(load_mrpt_gridmap(path + ".missing"), IoError);
-  // A header claiming 100000 x 100000 cells in a few bytes.
-  std::vector<std::uint8_t> b = {0x93};
-  for (char c : std::string("COccupancyGridMap2D")) b.push_back(static_cast<std::uint8_t>(c));
-  b.push_back(3);
-  b.push_back(8);
-  const auto put32 = [&](std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) b.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
-  };
-  const auto putf = [&](float f) {
-    std::uint32_t v;
-    std::memcpy(&v, &f, 4);
-    put32(v);
-  };
-  put32(100000);
-  put32(100000);
-  putf(0);
-  putf(5000);
-  putf(0);
-  putf(5000);
-  putf(0.05f);
-  MemoryInStream in(std::vector<std::byte>(reinterpret_cast<std::byte*>(b.data()),
-                                           reinterpret_cast<std::byte*>(b.data()) + b.size()),
-                    "lying.gridmap");
-  InArchive ar(in);
-  EXPECT_THROW(read_mrpt_gridmap(ar), ParseError);
 }
 
 }  // namespace

@@ -2,50 +2,17 @@
 
 #include <array>
 #include <cmath>
-#include <map>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "rove/core/error.h"
 #include "rove/maps/pass_through.h"
-#include "rove/maps/pcd.h"
 #include "rove/maps/point_cloud_sampling.h"
-#include "rove/test_data.h"
+#include "rove/maps_oracles.h"
 
 namespace rove {
 namespace {
-
-const std::string kData = test_data::bundled_file("pointcloud/");
-
-// Oracle: group by PCL's float voxel index with a std::map, ordered z, y, x.
-std::vector<Eigen::Vector3d> brute_voxels(const PointCloud& c, const Eigen::Vector3f& leaf) {
-  std::map<std::array<std::int64_t, 3>, std::pair<Eigen::Vector3d, int>> cells;
-  const Eigen::Array3f inv = leaf.array().inverse();
-  for (const auto& p : c.points()) {
-    if (!p.allFinite()) continue;
-    std::array<std::int64_t, 3> k;
-    for (int a = 0; a < 3; ++a) k[static_cast<std::size_t>(2 - a)] = static_cast<std::int64_t>(std::floor(p[a] * inv[a]));
-    auto& e = cells[k];
-    if (e.second == 0) e.first.setZero();
-    e.first += p.cast<double>();
-    ++e.second;
-  }
-  std::vector<Eigen::Vector3d> out;
-  for (auto& [k, v] : cells) out.push_back(v.first / v.second);
-  return out;
-}
-
-void expect_matches_oracle(const PointCloud& c, const Eigen::Vector3f& leaf) {
-  VoxelGridOptions o;
-  o.leaf_size = leaf;
-  const auto r = voxel_grid_filter(c, o);
-  const auto want = brute_voxels(c, leaf);
-  ASSERT_EQ(r.cloud.size(), want.size());
-  EXPECT_EQ(r.occupied_voxels, want.size());
-  for (std::size_t i = 0; i < want.size(); ++i)
-    ASSERT_NEAR((r.cloud[i].cast<double>() - want[i]).norm(), 0.0, 1e-5 * (1 + want[i].norm())) << i;
-}
 
 TEST(VoxelGrid, MatchesTheOracleOnRandomClouds) {
   std::mt19937 rng(3);
@@ -53,9 +20,9 @@ TEST(VoxelGrid, MatchesTheOracleOnRandomClouds) {
   PointCloud c;
   for (int i = 0; i < 5000; ++i) c.push_back({u(rng), u(rng), u(rng) * 0.1f});
   c.push_back({std::nanf(""), 0, 0});
-  expect_matches_oracle(c, Eigen::Vector3f(0.5f, 0.5f, 0.5f));
-  expect_matches_oracle(c, Eigen::Vector3f(0.3f, 1.1f, 0.05f));
-  expect_matches_oracle(c, Eigen::Vector3f(1e-6f, 1e-6f, 1e-6f));  // PCL would give up (2^31 cells)
+  test_oracles::expect_voxel_filter_matches_oracle(c, Eigen::Vector3f(0.5f, 0.5f, 0.5f));
+  test_oracles::expect_voxel_filter_matches_oracle(c, Eigen::Vector3f(0.3f, 1.1f, 0.05f));
+  test_oracles::expect_voxel_filter_matches_oracle(c, Eigen::Vector3f(1e-6f, 1e-6f, 1e-6f));  // PCL would give up (2^31 cells)
 }
 
 TEST(VoxelGrid, HugeGridsBeyond64BitIndicesStillWork) {
@@ -63,7 +30,7 @@ TEST(VoxelGrid, HugeGridsBeyond64BitIndicesStillWork) {
   c.push_back({-1e10f, -1e10f, -1e10f});
   c.push_back({1e10f, 1e10f, 1e10f});
   c.push_back({1e10f, 1e10f, 1e10f});
-  expect_matches_oracle(c, Eigen::Vector3f(1e-3f, 1e-3f, 1e-3f));
+  test_oracles::expect_voxel_filter_matches_oracle(c, Eigen::Vector3f(1e-3f, 1e-3f, 1e-3f));
   EXPECT_THROW(voxel_downsample(c, 1e-12f), InvalidArgument);  // index beyond int64
   EXPECT_THROW(voxel_downsample(c, 0.0f), InvalidArgument);
   EXPECT_THROW(voxel_downsample(c, -1.0f), InvalidArgument);
@@ -94,11 +61,6 @@ TEST(VoxelGrid, AveragesChannelsAndHonorsMinPoints) {
   o.average_channels = false;
   EXPECT_EQ(voxel_grid_filter(c, o).cloud.channels(), PointChannels::kNone);
   EXPECT_TRUE(voxel_downsample(PointCloud{}, 0.1f).empty());
-}
-
-TEST(VoxelGrid, RoomScanAgreesWithTheOracle) {
-  const PointCloud room = read_pcd(kData + "room_scan1.pcd");
-  expect_matches_oracle(room, Eigen::Vector3f::Constant(0.1f));
 }
 
 TEST(PassThrough, KeepsInclusiveLimitsAndNegative) {

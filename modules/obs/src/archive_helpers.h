@@ -1,6 +1,7 @@
 #pragma once
 // Internal: archive encodings of the pose types rove::obs stores, and the
-// conversion of a rejected value into a ParseError while loading.
+// conversion of a rejected value into a ParseError while loading
+// (rove/serialization/parse_guard.h).
 
 #include <string_view>
 
@@ -8,6 +9,7 @@
 #include "rove/poses/pose2.h"
 #include "rove/poses/pose3.h"
 #include "rove/serialization/archive.h"
+#include "rove/serialization/parse_guard.h"
 
 namespace rove::detail {
 
@@ -26,24 +28,5 @@ void save_pose2_gaussian(OutArchive& ar, const Pose2Gaussian& g);
 /// Reads a Pose2Gaussian; an invalid covariance is a ParseError.
 Pose2Gaussian load_pose2_gaussian(InArchive& ar, std::string_view field);
 
-/// Runs `f`; an InvalidArgument it throws (a value the type rejects) becomes
-/// a ParseError at offset `at` naming `field`.
-template <typename F>
-auto parse_guard(InArchive& ar, std::uint64_t at, std::string_view field, F&& f) -> decltype(f());
-
 }  // namespace rove::detail
 
-#include "rove/core/error.h"
-
-namespace rove::detail {
-
-template <typename F>
-auto parse_guard(InArchive& ar, std::uint64_t at, std::string_view field, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const InvalidArgument& e) {
-    ar.fail_at(at, field, "invalid value: " + e.message());
-  }
-}
-
-}  // namespace rove::detail

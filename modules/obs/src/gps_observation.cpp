@@ -128,7 +128,7 @@ void GpsObservation::load_payload(InArchive& ar, std::uint8_t version) {
     has_satellite_timestamp = false;
   }
   // Latitude/longitude ranges and finite values, as MRPT's reader checks.
-  detail::parse_guard(ar, start, kClassName, [&] { check(); });
+  parse_guard(ar, start, kClassName, [&] { check(); });
 }
 
 std::unique_ptr<Observation> GpsObservation::clone() const {

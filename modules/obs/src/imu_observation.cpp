@@ -51,7 +51,7 @@ void ImuObservation::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   } else {
     orientation.reset();
   }
-  detail::parse_guard(ar, start, kClassName, [&] { check(); });
+  parse_guard(ar, start, kClassName, [&] { check(); });
 }
 
 std::unique_ptr<Observation> ImuObservation::clone() const {

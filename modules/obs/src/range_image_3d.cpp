@@ -168,7 +168,7 @@ void RangeImage3D::load_payload(InArchive& ar, std::uint8_t version) {
   // Each part reads on its own; with a depth image they must agree (image
   // sizes, camera, a positive maximum range). One without a depth image
   // (e.g. default-constructed, camera unset) is stored as it was written.
-  if (depth.pixel_count() > 0) detail::parse_guard(ar, start, kClassName, [&] { check(); });
+  if (depth.pixel_count() > 0) parse_guard(ar, start, kClassName, [&] { check(); });
 }
 
 std::unique_ptr<Observation> RangeImage3D::clone() const {

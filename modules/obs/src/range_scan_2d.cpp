@@ -132,7 +132,7 @@ void RangeScan2D::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   max_range = ar.read_scalar<float>("max_range");
   std_error = ar.read_scalar<float>("std_error");
   beam_aperture = ar.read_scalar<float>("beam_aperture");
-  detail::parse_guard(ar, start, kClassName, [&] { check(); });
+  parse_guard(ar, start, kClassName, [&] { check(); });
 }
 
 std::unique_ptr<Observation> RangeScan2D::clone() const {

@@ -39,7 +39,7 @@ void RobotMovement3D::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   const std::uint64_t at = ar.offset();
   Pose3Gaussian::Matrix C;
   ar.read_scalars(std::span<double>(C.data(), 36), "pose_change.covariance");
-  pose_change = detail::parse_guard(ar, at, "pose_change.covariance",
+  pose_change = parse_guard(ar, at, "pose_change.covariance",
                                     [&] { return Pose3Gaussian(mean, C); });
   const std::uint64_t source_at = ar.offset();
   const auto s = ar.read_scalar<std::uint8_t>("source");

@@ -76,7 +76,7 @@ void RotatingScan::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   load(ar, lidar_model);
   original_received_timestamp.ns = ar.read_scalar<std::int64_t>("original_received_timestamp");
   has_satellite_timestamp = ar.read_scalar<bool>("has_satellite_timestamp");
-  detail::parse_guard(ar, at, "RotatingScan", [&] { check(); });
+  parse_guard(ar, at, "RotatingScan", [&] { check(); });
 }
 
 std::unique_ptr<Observation> RotatingScan::clone() const {

@@ -12,8 +12,8 @@
 #include "rove/core/check.h"
 #include "rove/core/error.h"
 #include "rove/core/files.h"
-#include "rove/maps/gray_image.h"
-#include "rove/maps/grid_image.h"
+#include "rove/io/gray_image.h"
+#include "rove/io/grid_image.h"
 
 namespace rove {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "rove/core/error.h"
-#include "rove/maps/gray_image.h"
+#include "rove/io/gray_image.h"
 
 namespace rove {
 namespace {

@@ -21,6 +21,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -55,6 +56,9 @@ enum class BeaconPdfKind : std::uint8_t {
   kGaussian = 1,        ///< one Gaussian (pdfGauss)
   kSumOfGaussians = 2,  ///< weighted Gaussian modes (pdfSOG)
 };
+
+/// "montecarlo", "gaussian" or "sog".
+std::string_view to_string(BeaconPdfKind kind) noexcept;
 
 /// One beacon: its identifier and position density. Exactly the member
 /// matching `kind` holds the density.
@@ -168,10 +172,6 @@ class BeaconMap final : public MetricMap {
   MapBounds bounding_box() const override;
   /// Beacon count.
   MapStatistics statistics() const override;
-  /// Writes `<prefix>_beacons.txt`: one row per beacon
-  /// `id x y z var_x var_y var_z det2d det3d c_xy c_xz c_yz kind` (MRPT's
-  /// saveToTextFile columns, with the id first and the density kind last).
-  std::vector<std::string> save(const std::string& path_prefix) const override;
 
  private:
   void insert_new(std::int32_t id, double range, const Eigen::Vector3d& sensor);

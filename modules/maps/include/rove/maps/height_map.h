@@ -122,10 +122,6 @@ class HeightMap final : public MetricMap {
   MapBounds bounding_box() const override;
   /// Observed cells out of total cells.
   MapStatistics statistics() const override;
-  /// Writes `<prefix>_mean.txt` (MRPT's format: one row per cy, one column
-  /// per cx, the cell's mean height) and `<prefix>_count.txt` (points per
-  /// cell, same layout).
-  std::vector<std::string> save(const std::string& path_prefix) const override;
 
  private:
   std::vector<Eigen::Vector3d> observation_points(const Observation& obs,

@@ -126,9 +126,6 @@ class LandmarkMap final : public MetricMap {
   MapBounds bounding_box() const override;
   /// Landmark count.
   MapStatistics statistics() const override;
-  /// Writes `<prefix>_landmarks.txt`: one row per landmark
-  /// `id x y z c_xx c_yy c_zz c_xy c_xz c_yz times_seen`.
-  std::vector<std::string> save(const std::string& path_prefix) const override;
 
  private:
   Landmark* find_mutable(std::int32_t id) noexcept;

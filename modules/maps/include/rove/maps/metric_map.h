@@ -118,11 +118,6 @@ class MetricMap {
   /// Element counts for summaries.
   virtual MapStatistics statistics() const = 0;
 
-  /// Writes the map to files whose names start with `path_prefix`
-  /// (e.g. "out/map_00"), each with its own suffix and extension; returns the
-  /// paths written. Throws IoError if a file cannot be written.
-  virtual std::vector<std::string> save(const std::string& path_prefix) const = 0;
-
  protected:
   MetricMap() = default;
   MetricMap(const MetricMap&) = default;

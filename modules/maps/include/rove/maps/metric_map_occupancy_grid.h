@@ -81,10 +81,6 @@ class OccupancyGridMetricMap final : public MetricMap {
   MapBounds bounding_box() const override;
   /// Cells whose probability differs from 0.5 (observed), of all cells.
   MapStatistics statistics() const override;
-  /// Writes `<prefix>.pgm` (8-bit, row 0 = largest y, 255 = free, 0 =
-  /// occupied, as MRPT's bitmap) and `<prefix>_limits.txt` (MRPT's
-  /// `% Grid limits: [x_min x_max y_min y_max]`).
-  std::vector<std::string> save(const std::string& path_prefix) const override;
 
  private:
   OccupancyGridCreationOptions creation_;

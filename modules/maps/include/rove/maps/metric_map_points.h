@@ -56,8 +56,6 @@ class PointsMetricMap final : public MetricMap {
   void clear() override;                                    ///< removes every point
   MapBounds bounding_box() const override;                 ///< box of the points
   MapStatistics statistics() const override;               ///< point count
-  /// Writes `<prefix>.ply` (binary PLY) and `<prefix>.pcd` (binary PCD).
-  std::vector<std::string> save(const std::string& path_prefix) const override;
 
  private:
   PointsMapFlavor flavor_;

@@ -115,8 +115,6 @@ class MultiMetricMap final : public MetricMap {
   MapBounds bounding_box() const override;
   /// Sum of the maps' element counts (unit "elements").
   MapStatistics statistics() const override;
-  /// Saves map i to `<prefix>_<ii>_<kind>...` and returns every path.
-  std::vector<std::string> save(const std::string& path_prefix) const override;
 
  private:
   std::vector<MetricMapEntry> entries_;

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "rove/obs/any_rawlog.h"
+#include "rove/io/any_rawlog.h"
 #include "rove/obs/timestamp.h"
 #include "rove/poses/pose2.h"
 #include "rove/slam/icp_slam.h"

@@ -1,0 +1,114 @@
+#pragma once
+/// \file
+/// One entry point for every robot log rove reads as a rawlog: rove rawlogs,
+/// MRPT rawlogs and CARMEN logs, told apart by their first bytes (after
+/// gunzip or bunzip2), plain or compressed.
+///
+/// Detection: "ROVERAWL" → rove rawlog; "BZh" or printable text → CARMEN log
+/// when a line within its first 256 KiB starts with a CARMEN message name
+/// (FLASER, ODOM, PARAM, ...), else an error (a .g2o, a .pcd or any other
+/// text is not a log); binary data starting with an MRPT object header
+/// (0x80 | name length, or an old-style u32 length below 128, then a
+/// printable class name) → MRPT rawlog; anything else is an error. A CARMEN
+/// log that ends without a single record, or whose records give no entry
+/// (ODOM or TRUEPOS lines without a laser scan in layout #1), is an error
+/// too, never an empty log.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "rove/io/carmen_to_rawlog.h"
+#include "rove/io/rawlog_reader.h"
+#include "rove/io/rove_rawlog.h"
+
+namespace rove {
+
+/// The file formats AnyRawlogReader reads.
+enum class RawlogFormat : std::uint8_t {
+  kRove = 0,    ///< rove rawlog (rove_rawlog.h)
+  kMrpt = 1,    ///< MRPT rawlog (rawlog_reader.h)
+  kCarmen = 2,  ///< CARMEN log, converted on the fly (carmen_to_rawlog.h)
+};
+
+/// "rove", "MRPT" or "CARMEN".
+std::string_view to_string(RawlogFormat format) noexcept;
+
+/// The format of the file at `path`, from its first bytes. Throws IoError
+/// if it cannot be opened or read or is not a regular file (a directory,
+/// /dev/zero, a FIFO); ParseError (file, offset 0, "format") if it is empty,
+/// gzip-compressed text, text without CARMEN message lines, or binary data
+/// that is not an MRPT object.
+RawlogFormat detect_rawlog_format(const std::string& path);
+
+/// Options of AnyRawlogReader, per format.
+struct AnyRawlogOptions {
+  /// For MRPT rawlogs.
+  RawlogReaderOptions mrpt;
+  /// For rove rawlogs.
+  RoveRawlogReaderOptions rove;
+  /// For CARMEN logs (layout, motion model, labels).
+  CarmenToRawlogOptions carmen;
+};
+
+/// Streams the entries of a rove rawlog, an MRPT rawlog or a CARMEN log, in
+/// constant memory. Thread-safety: not safe for concurrent use.
+class AnyRawlogReader {
+ public:
+  /// Opens `path` and detects its format. Throws IoError if it cannot be
+  /// opened; ParseError if it is empty or (rove) its header is malformed.
+  explicit AnyRawlogReader(const std::string& path, AnyRawlogOptions options = {});
+  ~AnyRawlogReader();
+  AnyRawlogReader(const AnyRawlogReader&) = delete;
+  AnyRawlogReader& operator=(const AnyRawlogReader&) = delete;
+
+  /// The next entry, or std::nullopt at the end; errors as the format's
+  /// reader (ParseError naming the file, the byte offset or line, and the
+  /// class or field). A CARMEN log that ends without any record, or
+  /// without any entry from its records, is a ParseError (field "records").
+  std::optional<RawlogEntry> next();
+
+  /// The detected format.
+  RawlogFormat format() const noexcept { return format_; }
+  /// How far the reader is: decompressed bytes (rove, MRPT) or lines
+  /// (CARMEN).
+  std::uint64_t position() const;
+  /// Entries returned so far.
+  std::uint64_t entries_read() const noexcept { return entries_; }
+  /// The declared layout (rove), the converter's layout (CARMEN), or
+  /// std::nullopt (MRPT files declare none).
+  std::optional<RawlogLayout> declared_layout() const;
+  /// The rove reader, when format() is kRove (metadata, skipped entries);
+  /// nullptr otherwise.
+  const RoveRawlogReader* rove() const noexcept { return rove_.get(); }
+  /// The CARMEN source, when format() is kCarmen (conversion counts);
+  /// nullptr otherwise.
+  const CarmenRawlogSource* carmen() const noexcept { return carmen_.get(); }
+  /// The file path.
+  const std::string& path() const noexcept { return path_; }
+
+ private:
+  std::string path_;
+  RawlogFormat format_;
+  std::unique_ptr<RoveRawlogReader> rove_;
+  std::unique_ptr<RawlogReader> mrpt_;
+  std::unique_ptr<CarmenRawlogSource> carmen_;
+  std::uint64_t entries_ = 0;
+};
+
+/// A whole log in memory, whatever its format.
+struct AnyRawlog {
+  /// The entries in file order.
+  std::vector<RawlogEntry> entries;
+  /// The layout the entries follow (layout_of).
+  RawlogLayout layout = RawlogLayout::kEmpty;
+  /// The file's format.
+  RawlogFormat format = RawlogFormat::kMrpt;
+};
+
+/// Reads every entry of a rove rawlog, MRPT rawlog or CARMEN log.
+AnyRawlog load_any_rawlog(const std::string& path, AnyRawlogOptions options = {});
+
+}  // namespace rove
