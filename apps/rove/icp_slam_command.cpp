@@ -20,7 +20,10 @@
 #include "rove/core/json.h"
 #include "rove/core/progress.h"
 #include "rove/core/timer.h"
+#include "rove/io/grid_image.h"
 #include "rove/io/mrpt_simplemap_writer.h"
+#include "rove/io/ply.h"
+#include "rove/io/tum_trajectory.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
 #include "rove/maps/metric_map_points.h"
 #include "rove/slam/icp_slam.h"
@@ -186,14 +189,18 @@ void run(IcpSlamCliOptions o) {
     for (const auto& e : slam.map().entries()) {
       if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
         const std::string stem = grids == 0 ? "map" : fmt::format("map_{:02}", grids);
-        const GridMapFiles gf = write_grid_map((dir / stem).string(), g->grid());
+        GridImageOptions scale;  // the whole probability, as MRPT's bitmap
+        scale.mode = RosMapMode::kScale;
+        const RosMapFiles gf = save_ros_map((dir / stem).string(), g->grid(), scale);
         files.push_back(gf.image);
         files.push_back(gf.yaml);
         if (picture.empty()) picture = gf.image;
         ++grids;
       } else if (const auto* p = dynamic_cast<const PointsMetricMap*>(e.map.get())) {
         const std::string stem = clouds == 0 ? "points" : fmt::format("points_{:02}", clouds);
-        write_ply((dir / (stem + ".ply")).string(), p->points().cloud());
+        PlyWriteOptions ascii;
+        ascii.format = PlyFormat::kAscii;
+        write_ply((dir / (stem + ".ply")).string(), p->points().cloud(), ascii);
         files.push_back((dir / (stem + ".ply")).string());
         render_points_png((dir / (stem + ".png")).string(), p->points().cloud(), path);
         files.push_back((dir / (stem + ".png")).string());

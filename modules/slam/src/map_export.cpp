@@ -2,58 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <iterator>
 #include <limits>
-#include <memory>
-
-#include <fmt/format.h>
 
 #include "rove/core/check.h"
-#include "rove/core/error.h"
-#include "rove/core/files.h"
 #include "rove/io/gray_image.h"
-#include "rove/io/grid_image.h"
 
 namespace rove {
-
-void write_tum_trajectory(const std::string& path, const std::vector<TimedPose2>& poses) {
-  AtomicOutputFile out(path);
-  out.write("# t x y z qx qy qz qw\n");
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const auto& p = poses[i];
-    const double t = p.time.valid() ? p.time.to_seconds() : static_cast<double>(i);
-    const double h = 0.5 * p.pose.phi();
-    out.write(fmt::format("{:.6f} {:.6f} {:.6f} 0 0 0 {:.9f} {:.9f}\n", t, p.pose.x(),
-                          p.pose.y(), std::sin(h), std::cos(h)));
-  }
-  out.commit();
-}
-
-void write_ply(const std::string& path, const PointCloud& cloud) {
-  AtomicOutputFile out(path);
-  out.write(fmt::format("ply\nformat ascii 1.0\ncomment written by rove icp-slam\nelement vertex "
-                        "{}\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
-                        cloud.size()));
-  std::string chunk;
-  for (const auto& p : cloud.points()) {
-    fmt::format_to(std::back_inserter(chunk), "{} {} {}\n", p.x(), p.y(), p.z());
-    if (chunk.size() > (std::size_t{1} << 16)) {
-      out.write(chunk);
-      chunk.clear();
-    }
-  }
-  out.write(chunk);
-  out.commit();
-}
-
-GridMapFiles write_grid_map(const std::string& prefix, const OccupancyGrid& grid) {
-  ROVE_CHECK_MSG(grid.size_x() > 0 && grid.size_y() > 0, "the grid has no cells");
-  GridImageOptions options;
-  options.mode = RosMapMode::kScale;
-  const RosMapFiles files = save_ros_map(prefix, grid, options);
-  return {files.image, files.yaml};
-}
 
 void render_points_png(const std::string& path, const PointCloud& cloud,
                        const std::vector<Pose2>& robot_path, const PointsImageOptions& options) {
