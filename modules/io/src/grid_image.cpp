@@ -9,6 +9,7 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/io/file_bytes.h"
 
 namespace rove {
 namespace {

@@ -13,6 +13,7 @@
 #include "pcd_io_common.h"
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/io/file_bytes.h"
 #include "rove/io/lzf.h"
 
 static_assert(std::endian::native == std::endian::little,
@@ -446,7 +447,7 @@ PointCloud read_pcd_from_memory(std::span<const std::uint8_t> bytes, std::string
 }
 
 PointCloud read_pcd(const std::string& path, PcdHeader* header) {
-  const std::vector<std::uint8_t> bytes = detail::read_file_bytes(path);
+  const std::vector<std::uint8_t> bytes = read_file_bytes(path, 0, "point cloud");
   return read_pcd_from_memory(bytes, path, header);
 }
 
@@ -543,7 +544,7 @@ std::vector<std::uint8_t> write_pcd_to_memory(const PointCloud& cloud, const Pcd
 }
 
 void write_pcd(const std::string& path, const PointCloud& cloud, const PcdWriteOptions& options) {
-  detail::write_file_bytes(path, write_pcd_to_memory(cloud, options));
+  write_file_bytes(path, write_pcd_to_memory(cloud, options));
 }
 
 }  // namespace rove

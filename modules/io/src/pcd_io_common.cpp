@@ -1,34 +1,10 @@
 #include "pcd_io_common.h"
 
-#include <cerrno>
 #include <charconv>
-#include <cstdio>
-#include <memory>
-#include <system_error>
 
 #include "rove/core/error.h"
-#include "rove/core/files.h"
-#include "rove/core/memory_budget.h"
 
 namespace rove::detail {
-
-namespace {
-struct FileCloser {
-  void operator()(std::FILE* f) const noexcept { std::fclose(f); }
-};
-}  // namespace
-
-std::vector<std::uint8_t> read_file_bytes(const std::string& path) {
-  // A regular file no larger than the memory budget (a device or a FIFO
-  // would otherwise be read without end).
-  const std::string data = read_input_file(path, memory_budget_bytes(), "point cloud");
-  return std::vector<std::uint8_t>(data.begin(), data.end());
-}
-
-void write_file_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
-  write_text_file_atomically(
-      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
-}
 
 std::size_t scalar_size(ScalarKind k) noexcept {
   switch (k) {

@@ -10,11 +10,6 @@
 
 namespace rove::detail {
 
-/// The whole file, or IoError naming it.
-std::vector<std::uint8_t> read_file_bytes(const std::string& path);
-/// Writes bytes to a file, or IoError naming it.
-void write_file_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes);
-
 /// Numeric element kinds of PCD and PLY columns.
 enum class ScalarKind : std::uint8_t { kI8, kU8, kI16, kU16, kI32, kU32, kI64, kU64, kF32, kF64 };
 std::size_t scalar_size(ScalarKind k) noexcept;

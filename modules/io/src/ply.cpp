@@ -12,6 +12,7 @@
 #include "pcd_io_common.h"
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/io/file_bytes.h"
 
 namespace rove {
 
@@ -324,7 +325,7 @@ PointCloud read_ply_from_memory(std::span<const std::uint8_t> bytes, std::string
 }
 
 PointCloud read_ply(const std::string& path) {
-  const std::vector<std::uint8_t> bytes = detail::read_file_bytes(path);
+  const std::vector<std::uint8_t> bytes = read_file_bytes(path, 0, "point cloud");
   return read_ply_from_memory(bytes, path);
 }
 
@@ -383,7 +384,7 @@ std::vector<std::uint8_t> write_ply_to_memory(const PointCloud& cloud, const Ply
 }
 
 void write_ply(const std::string& path, const PointCloud& cloud, const PlyWriteOptions& options) {
-  detail::write_file_bytes(path, write_ply_to_memory(cloud, options));
+  write_file_bytes(path, write_ply_to_memory(cloud, options));
 }
 
 }  // namespace rove

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "rove/core/error.h"
+#include "rove/io/file_bytes.h"
 #include "rove/io/gray_image.h"
 #include "rove/io/grid_binary.h"
 #include "rove/io/grid_image.h"
