@@ -32,7 +32,7 @@
 
 #include <Eigen/Core>
 
-#include "rove/maps/map_config.h"
+#include "rove/core/config_section.h"
 #include "rove/maps/octree_key.h"
 #include "rove/maps/point_cloud.h"
 
