@@ -1,5 +1,5 @@
 // OccupancyOctree against OctoMap 1.9.7 on scan.dat (the 3D scan of
-// OctoMap's own tests, ../shared/datasets/octree): the reference files under
+// OctoMap's own tests, datasets/octree in the shared datasets): the reference files under
 // data/reference/octomap/ were written by tools/octomap_reference.
 #include <map>
 

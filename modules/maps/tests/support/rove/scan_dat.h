@@ -1,5 +1,5 @@
 #pragma once
-// Reads ../shared/datasets/octree/scan.dat.bz2 (OctoMap's test scan: "x y z"
+// Reads octree/scan.dat.bz2 of the shared datasets (OctoMap's test scan: "x y z"
 // lines, meters) for the octree tests and benchmark.
 #include <bzlib.h>
 
