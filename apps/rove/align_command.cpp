@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 
+#include "cli_values.h"
 #include "commands.h"
 #include "report.h"
 #include "rove/core/error.h"
@@ -71,56 +72,20 @@ PointCloud read_cloud(const std::string& path, const char* what) {
 /// and ≥ 0. Auto: nullopt.
 std::optional<std::vector<double>> parse_voxels(const std::string& text) {
   if (text == "auto") return std::nullopt;
-  std::vector<double> v;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    std::size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
-    if (used == 0 || used != item.size() || !std::isfinite(x) || x < 0)
+  std::vector<double> v = parse_number_list(text, "--voxel");
+  for (const double x : v)
+    if (x < 0)
       throw ParseError({"--voxel", std::nullopt, std::nullopt, "voxel"},
-                       fmt::format("'{}' is not 'auto' or a finite number >= 0", printable(item)));
-    v.push_back(x);
-  }
-  if (v.empty())
-    throw ParseError({"--voxel", std::nullopt, std::nullopt, "voxel"}, "no voxel size given");
+                       fmt::format("{} is not 'auto' or a size >= 0", x));
   return v;
 }
 
-/// "x,y,z,roll,pitch,yaw" (meters, radians) as a transform, R = Rz·Ry·Rx.
+/// --init as a transform (the command line's pose convention, cli_values.h).
 Eigen::Isometry3d parse_init(const std::string& text) {
-  std::vector<double> v;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    std::size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
-    if (used == 0 || used != item.size() || !std::isfinite(x))
-      throw ParseError({"--init", std::nullopt, std::nullopt, "init"},
-                       fmt::format("'{}' is not a finite number", printable(item)));
-    v.push_back(x);
-  }
-  if (v.size() != 6)
-    throw ParseError({"--init", std::nullopt, std::nullopt, "init"},
-                     fmt::format("expected 6 values x,y,z,roll,pitch,yaw, got {}", v.size()));
+  const Pose3 p = parse_cli_pose3(text, "--init");
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(v[5], Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(v[4], Eigen::Vector3d::UnitY()) *
-                Eigen::AngleAxisd(v[3], Eigen::Vector3d::UnitX()))
-                   .toRotationMatrix();
-  T.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+  T.linear() = p.rotation();
+  T.translation() = p.translation();
   return T;
 }
 
@@ -362,8 +327,8 @@ void add_align_command(CLI::App& app) {
       ->check(CLI::IsMember({"icp", "point-to-plane", "gicp", "ndt"}))
       ->capture_default_str();
   auto* init = cmd->add_option("--init", o->init,
-                               "Initial guess x,y,z,roll,pitch,yaw (m, rad; R = Rz·Ry·Rx); "
-                               "default identity");
+                               "Initial guess x,y,z,yaw,pitch,roll or x,y,yaw (m, deg; an angle "
+                               "may end in 'rad'; R = Rz·Ry·Rx); default identity");
   cmd->add_option("--init-file", o->init_file, "Initial guess as a 4x4 matrix file")
       ->excludes(init);
   cmd->add_option("--voxel", o->voxel,

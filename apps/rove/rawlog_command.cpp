@@ -321,6 +321,28 @@ void add_io(CLI::App* cmd, JobOptions& o, const std::string& out_help) {
   add_max_range(cmd, o.max_range);
 }
 
+/// `rawlog export-scans` / `export-odometry`: a text export of one rawlog.
+using TextExportFn = RawlogJobResult (*)(const std::string&, const std::string&,
+                                         const TextExportOptions&, const RawlogProgressFn&);
+void add_text_export(CLI::App* rawlog, const std::shared_ptr<JobOptions>& job,
+                     const std::string& name, const std::string& help,
+                     const std::string& out_help, TextExportFn export_fn) {
+  auto* cmd = rawlog->add_subcommand(name, help);
+  add_io(cmd, *job, out_help);
+  cmd->add_option("--label", job->label, "Export only this sensor label (default: every label)");
+  cmd->callback([job, export_fn] {
+    TextExportOptions o;
+    o.label = job->label;
+    o.read = read_options(job->max_range);
+    FileProgress progress(job->in, job->progress, "exporting");
+    const RawlogJobResult r = run_job(job->out, kLabelFlag, false, [&] {
+      return export_fn(job->in, job->out, o, progress.fn());
+    });
+    progress.finish();
+    print_export(r);
+  });
+}
+
 }  // namespace
 
 void add_rawlog_command(CLI::App& app) {
@@ -373,42 +395,18 @@ void add_rawlog_command(CLI::App& app) {
     print_job("converted", job->in, job->out, r);
   });
 
-  auto* scans = rawlog->add_subcommand(
-      "export-scans",
-      "Export 2D laser scans as text with the columns and number format of MRPT's rawlog-edit "
-      "--export-2d-scans-txt (time, ranges, validity[, intensity]); one file per sensor label: "
-      "OUTPUT itself for a single label, else OUTPUT_<label>.txt");
-  add_io(scans, *job, "text file to write (e.g. scans.txt)");
-  scans->add_option("--label", job->label, "Export only this sensor label (default: every label)");
-  scans->callback([job] {
-    TextExportOptions o;
-    o.label = job->label;
-    o.read = read_options(job->max_range);
-    FileProgress progress(job->in, job->progress, "exporting");
-    const RawlogJobResult r = run_job(
-        job->out, kLabelFlag, false, [&] { return export_scans_txt(job->in, job->out, o, progress.fn()); });
-    progress.finish();
-    print_export(r);
-  });
-
-  auto* odometry = rawlog->add_subcommand(
-      "export-odometry",
-      "Export odometry as text with the columns of MRPT's rawlog-edit --export-odometry-txt "
-      "(time, x, y, phi, encoders, velocities). Layout #1 logs (where rawlog-edit writes no "
-      "odometry) get the actions integrated from the identity, under label ODOMETRY");
-  add_io(odometry, *job, "text file to write (e.g. odometry.txt)");
-  odometry->add_option("--label", job->label, "Export only this sensor label (default: every label)");
-  odometry->callback([job] {
-    TextExportOptions o;
-    o.label = job->label;
-    o.read = read_options(job->max_range);
-    FileProgress progress(job->in, job->progress, "exporting");
-    const RawlogJobResult r = run_job(job->out, kLabelFlag, false, [&] {
-      return export_odometry_txt(job->in, job->out, o, progress.fn());
-    });
-    progress.finish();
-    print_export(r);
-  });
+  add_text_export(rawlog, job, "export-scans",
+                  "Export 2D laser scans as text with the columns and number format of MRPT's "
+                  "rawlog-edit --export-2d-scans-txt (time, ranges, validity[, intensity]); one "
+                  "file per sensor label: OUTPUT itself for a single label, else "
+                  "OUTPUT_<label>.txt",
+                  "text file to write (e.g. scans.txt)", export_scans_txt);
+  add_text_export(rawlog, job, "export-odometry",
+                  "Export odometry as text with the columns of MRPT's rawlog-edit "
+                  "--export-odometry-txt (time, x, y, phi, encoders, velocities). Layout #1 logs "
+                  "(where rawlog-edit writes no odometry) get the actions integrated from the "
+                  "identity, under label ODOMETRY",
+                  "text file to write (e.g. odometry.txt)", export_odometry_txt);
 
   auto* cut = rawlog->add_subcommand(
       "cut",

@@ -14,7 +14,7 @@ rove_dataset_tests(cli.align_gicp_small_gicp)
 
 # NDT with the PCL tutorial's guess, writing the aligned cloud.
 add_test(NAME cli.align_ndt_room COMMAND rove align --method ndt --voxel 0.2
-  --init 1.79387,0.720047,0,0,0,0.6931 -o ${CMAKE_CURRENT_BINARY_DIR}/room_aligned.pcd
+  --init 1.79387,0.720047,0,0.6931rad,0,0 -o ${CMAKE_CURRENT_BINARY_DIR}/room_aligned.pcd
   ${rove_align_bundled}/room_scan2.pcd ${rove_align_bundled}/room_scan1.pcd)
 set_tests_properties(cli.align_ndt_room PROPERTIES LABELS cli
   PASS_REGULAR_EXPRESSION "termination: Converged.*aligned source written")
@@ -23,6 +23,13 @@ set_tests_properties(cli.align_ndt_room PROPERTIES LABELS cli
 add_test(NAME cli.align_bad_init COMMAND rove align --init 1,2,three,0,0,0
   ${rove_align_bundled}/bunny.pcd ${rove_align_bundled}/bunny.pcd)
 set_tests_properties(cli.align_bad_init PROPERTIES LABELS cli WILL_FAIL TRUE)
+# The command line's pose convention: x,y,z,yaw,pitch,roll in degrees, or
+# x,y,yaw; five values are neither.
+add_test(NAME cli.align_init_wrong_count COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> align --init 1,2,3,4,5 ${rove_align_bundled}/bunny.pcd ${rove_align_bundled}/bunny.pcd"
+  -DEXIT=1 "-DREGEX=--init.*expected x,y,z,yaw,pitch,roll or x,y,yaw .meters, degrees., got 5 values"
+  -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
+set_tests_properties(cli.align_init_wrong_count PROPERTIES LABELS cli)
 
 # A single plane is degenerate: exit status 3, reported in the output.
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/align_plane.pcd
@@ -33,7 +40,7 @@ foreach(i RANGE 0 19)
   endforeach()
 endforeach()
 add_test(NAME cli.align_plane_degenerate COMMAND rove align --method point-to-plane
-  --init 0.2,0.1,0.05,0,0,0.02
+  --init 0.2,0.1,0.05,1.15,0,0
   ${CMAKE_CURRENT_BINARY_DIR}/align_plane.pcd ${CMAKE_CURRENT_BINARY_DIR}/align_plane.pcd)
 set_tests_properties(cli.align_plane_degenerate PROPERTIES LABELS cli
   PASS_REGULAR_EXPRESSION "termination: Degenerate")
@@ -87,7 +94,7 @@ string(REGEX REPLACE "(-?[0-9]+) (-?[0-9]+) (-?[0-9]+)" "\\1e-2 \\2e-2 \\3e-2" r
 file(WRITE ${rove_align_dir}/floor_wall.ply
   "ply\nformat ascii 1.0\nelement vertex ${rove_align_fw_n}\nproperty float x\nproperty float y\nproperty float z\nend_header\n${rove_align_fw_m}")
 add_test(NAME cli.align_gicp_stall_is_not_converged COMMAND ${CMAKE_COMMAND}
-  "-DCOMMAND=$<TARGET_FILE:rove> align --json --voxel 0.25 --max-distance 0.75 --init 0,0,0,-0.5235987755982988,0,0 ${rove_align_dir}/floor_wall.ply ${rove_align_dir}/floor_wall.ply"
+  "-DCOMMAND=$<TARGET_FILE:rove> align --json --voxel 0.25 --max-distance 0.75 --init 0,0,0,0,0,-30 ${rove_align_dir}/floor_wall.ply ${rove_align_dir}/floor_wall.ply"
   -DEXIT=3 "-DREGEX=\"termination\": \"Stalled\".*\"converged\": false.*\"issues\": \\[[^]]*\"code\": \"stalled\""
   -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 set_tests_properties(cli.align_gicp_stall_is_not_converged PROPERTIES LABELS cli)
