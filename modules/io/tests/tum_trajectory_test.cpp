@@ -37,6 +37,29 @@ TEST(TumTrajectory, WritesTimeTranslationAndTheYawQuaternion) {
             "1.000000 0.000000 0.000000 0 0 0 0.000000000 1.000000000\n");
 }
 
+TEST(TumTrajectory, ReadsPosesAndRejectsBadLines) {
+  const std::string file = ::testing::TempDir() + "/rove_tum_read.txt";
+  std::ofstream(file) << "# t x y z qx qy qz qw\n\n1.5 1 2 3 0 0 0.7071067811865476 0.7071067811865476\n"
+                         "  2.0 -1 0 0.5 0 0 0 2\n";
+  const auto poses = read_tum_trajectory(file);
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_EQ(poses[0].time, 1.5);
+  EXPECT_TRUE(poses[0].T_world_body.translation().isApprox(Eigen::Vector3d(1, 2, 3)));
+  EXPECT_NEAR((poses[0].T_world_body.rotation() * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 0, 1e-12);
+  EXPECT_TRUE(poses[1].T_world_body.rotation().matrix().isApprox(Eigen::Matrix3d::Identity()));  // normalized
+  for (const char* bad : {"1 2 3\n", "1 2 3 4 5 6 7 8 9\n", "1 2 3 4 0 0 0 0\n", "1 2 x 4 0 0 0 1\n", "1 2 nan 4 0 0 0 1\n"}) {
+    std::ofstream(file) << "# header\n" << bad;
+    try {
+      (void)read_tum_trajectory(file);
+      ADD_FAILURE() << bad;
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.location().line, 2u) << e.what();
+    }
+  }
+  std::filesystem::remove(file);
+  EXPECT_THROW((void)read_tum_trajectory(file), IoError);
+}
+
 TEST(TumTrajectory, UnwritablePathIsAnIoError) {
   EXPECT_THROW(write_tum_trajectory("/nonexistent-dir/path.tum", {}), IoError);
 }
