@@ -65,13 +65,4 @@ void BeaconRanges::load_payload(InArchive& ar, std::uint8_t version) {
   }
 }
 
-std::unique_ptr<Observation> BeaconRanges::clone() const {
-  return std::make_unique<BeaconRanges>(*this);
-}
-
-bool BeaconRanges::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const BeaconRanges*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

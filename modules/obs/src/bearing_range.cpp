@@ -68,13 +68,4 @@ void BearingRange::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   }
 }
 
-std::unique_ptr<Observation> BearingRange::clone() const {
-  return std::make_unique<BearingRange>(*this);
-}
-
-bool BearingRange::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const BearingRange*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

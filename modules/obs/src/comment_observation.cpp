@@ -18,13 +18,4 @@ void CommentObservation::load_payload(InArchive& ar, std::uint8_t /*version 1*/)
   load(ar, text);
 }
 
-std::unique_ptr<Observation> CommentObservation::clone() const {
-  return std::make_unique<CommentObservation>(*this);
-}
-
-bool CommentObservation::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const CommentObservation*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

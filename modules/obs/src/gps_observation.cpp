@@ -131,13 +131,4 @@ void GpsObservation::load_payload(InArchive& ar, std::uint8_t version) {
   parse_guard(ar, start, kClassName, [&] { check(); });
 }
 
-std::unique_ptr<Observation> GpsObservation::clone() const {
-  return std::make_unique<GpsObservation>(*this);
-}
-
-bool GpsObservation::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const GpsObservation*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

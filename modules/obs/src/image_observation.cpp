@@ -29,13 +29,4 @@ void ImageObservation::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   load(ar, image);
 }
 
-std::unique_ptr<Observation> ImageObservation::clone() const {
-  return std::make_unique<ImageObservation>(*this);
-}
-
-bool ImageObservation::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const ImageObservation*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

@@ -54,13 +54,4 @@ void ImuObservation::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   parse_guard(ar, start, kClassName, [&] { check(); });
 }
 
-std::unique_ptr<Observation> ImuObservation::clone() const {
-  return std::make_unique<ImuObservation>(*this);
-}
-
-bool ImuObservation::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const ImuObservation*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

@@ -24,13 +24,4 @@ void OdometryObservation::load_payload(InArchive& ar, std::uint8_t /*version 1*/
   load(ar, velocity);
 }
 
-std::unique_ptr<Observation> OdometryObservation::clone() const {
-  return std::make_unique<OdometryObservation>(*this);
-}
-
-bool OdometryObservation::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const OdometryObservation*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

@@ -171,13 +171,4 @@ void RangeImage3D::load_payload(InArchive& ar, std::uint8_t version) {
   if (depth.pixel_count() > 0) parse_guard(ar, start, kClassName, [&] { check(); });
 }
 
-std::unique_ptr<Observation> RangeImage3D::clone() const {
-  return std::make_unique<RangeImage3D>(*this);
-}
-
-bool RangeImage3D::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const RangeImage3D*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

@@ -135,13 +135,4 @@ void RangeScan2D::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   parse_guard(ar, start, kClassName, [&] { check(); });
 }
 
-std::unique_ptr<Observation> RangeScan2D::clone() const {
-  return std::make_unique<RangeScan2D>(*this);
-}
-
-bool RangeScan2D::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const RangeScan2D*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

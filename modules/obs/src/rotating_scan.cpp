@@ -79,13 +79,4 @@ void RotatingScan::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   parse_guard(ar, at, "RotatingScan", [&] { check(); });
 }
 
-std::unique_ptr<Observation> RotatingScan::clone() const {
-  return std::make_unique<RotatingScan>(*this);
-}
-
-bool RotatingScan::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const RotatingScan*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

@@ -126,13 +126,4 @@ void VelodyneScan::load_payload(InArchive& ar, std::uint8_t /*version 1*/) {
   has_satellite_timestamp = ar.read_scalar<bool>("has_satellite_timestamp");
 }
 
-std::unique_ptr<Observation> VelodyneScan::clone() const {
-  return std::make_unique<VelodyneScan>(*this);
-}
-
-bool VelodyneScan::equals(const Observation& other) const {
-  const auto* o = dynamic_cast<const VelodyneScan*>(&other);
-  return o != nullptr && *this == *o;
-}
-
 }  // namespace rove

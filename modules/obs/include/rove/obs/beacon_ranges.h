@@ -42,7 +42,7 @@ struct BeaconAuxEstimate {
 };
 
 /// Ranges to several beacons taken at once.
-class BeaconRanges final : public Observation {
+class BeaconRanges final : public ObservationOf<BeaconRanges> {
  public:
   /// Stored class name: "BeaconRanges".
   static constexpr std::string_view kClassName = "BeaconRanges";
@@ -67,18 +67,12 @@ class BeaconRanges final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const BeaconRanges& a, const BeaconRanges& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 2; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 /// Writes a BeaconRange (versioned record).

@@ -41,7 +41,7 @@ struct LandmarkMeasurement {
 };
 
 /// Landmarks seen at once by one sensor.
-class BearingRange final : public Observation {
+class BearingRange final : public ObservationOf<BearingRange> {
  public:
   /// Stored class name: "BearingRange".
   static constexpr std::string_view kClassName = "BearingRange";
@@ -74,18 +74,12 @@ class BearingRange final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const BearingRange& a, const BearingRange& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 1; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 /// Writes a LandmarkMeasurement (versioned record).

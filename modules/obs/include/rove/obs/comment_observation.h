@@ -12,7 +12,7 @@
 namespace rove {
 
 /// A text note with a timestamp; no sensor data.
-class CommentObservation final : public Observation {
+class CommentObservation final : public ObservationOf<CommentObservation> {
  public:
   /// Stored class name: "CommentObservation".
   static constexpr std::string_view kClassName = "CommentObservation";
@@ -26,18 +26,12 @@ class CommentObservation final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const CommentObservation& a, const CommentObservation& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 1; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 }  // namespace rove

@@ -71,7 +71,7 @@ void save(OutArchive& ar, const GpsRmc& r);
 void load(InArchive& ar, GpsRmc& r);
 
 /// A GNSS fix. T_robot_sensor's translation is the antenna position.
-class GpsObservation final : public Observation {
+class GpsObservation final : public ObservationOf<GpsObservation> {
  public:
   /// Stored class name: "GpsObservation".
   static constexpr std::string_view kClassName = "GpsObservation";
@@ -118,8 +118,6 @@ class GpsObservation final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const GpsObservation& a, const GpsObservation& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 2; }
   /// Writes the fields (Serializable contract).
@@ -127,10 +125,6 @@ class GpsObservation final : public Observation {
   /// Reads fields written by save_payload; ParseError on malformed data,
   /// including values that fail check().
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 }  // namespace rove

@@ -15,7 +15,7 @@
 namespace rove {
 
 /// A camera image and its intrinsics.
-class ImageObservation final : public Observation {
+class ImageObservation final : public ObservationOf<ImageObservation> {
  public:
   /// Stored class name: "ImageObservation".
   static constexpr std::string_view kClassName = "ImageObservation";
@@ -35,18 +35,12 @@ class ImageObservation final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const ImageObservation& a, const ImageObservation& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 1; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 }  // namespace rove

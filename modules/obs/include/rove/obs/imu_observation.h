@@ -18,7 +18,7 @@ namespace rove {
 
 /// Angular velocity, linear acceleration and orientation, each present only
 /// if the device reported it.
-class ImuObservation final : public Observation {
+class ImuObservation final : public ObservationOf<ImuObservation> {
  public:
   /// Stored class name: "ImuObservation".
   static constexpr std::string_view kClassName = "ImuObservation";
@@ -42,18 +42,12 @@ class ImuObservation final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const ImuObservation& a, const ImuObservation& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 1; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 }  // namespace rove

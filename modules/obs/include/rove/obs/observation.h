@@ -54,4 +54,29 @@ class Observation : public Serializable {
   void load_header(InArchive& ar);
 };
 
+/// The base of each concrete observation type: implements the members that
+/// every type defines the same way, from `Derived::kClassName` (the stored
+/// class name) and Derived's operator== (exact equality of every field).
+/// Usage: `class RangeScan2D final : public ObservationOf<RangeScan2D>`.
+template <typename Derived>
+class ObservationOf : public Observation {
+ public:
+  /// The stored class name (Derived::kClassName).
+  std::string_view class_name() const override { return Derived::kClassName; }
+  /// A deep copy.
+  std::unique_ptr<Observation> clone() const override {
+    return std::make_unique<Derived>(static_cast<const Derived&>(*this));
+  }
+  /// Same dynamic type and Derived's operator==.
+  bool equals(const Observation& other) const override {
+    const auto* o = dynamic_cast<const Derived*>(&other);
+    return o != nullptr && static_cast<const Derived&>(*this) == *o;
+  }
+
+ protected:
+  ObservationOf() = default;
+  ObservationOf(const ObservationOf&) = default;
+  ObservationOf& operator=(const ObservationOf&) = default;
+};
+
 }  // namespace rove

@@ -17,7 +17,7 @@ namespace rove {
 /// Absolute odometry: the pose the robot's odometry integrates, in the
 /// odometry frame (its origin is where odometry started; it drifts).
 /// Successive readings give increments with `b - a` (Pose2 ⊖).
-class OdometryObservation final : public Observation {
+class OdometryObservation final : public ObservationOf<OdometryObservation> {
  public:
   /// Stored class name: "OdometryObservation".
   static constexpr std::string_view kClassName = "OdometryObservation";
@@ -35,18 +35,12 @@ class OdometryObservation final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const OdometryObservation& a, const OdometryObservation& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 1; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 }  // namespace rove

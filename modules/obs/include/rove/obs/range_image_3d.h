@@ -86,7 +86,7 @@ void save(OutArchive& ar, const RangeImagePoints& p);
 void load(InArchive& ar, RangeImagePoints& p);
 
 /// A depth/range image with its camera model and an optional intensity image.
-class RangeImage3D final : public Observation {
+class RangeImage3D final : public ObservationOf<RangeImage3D> {
  public:
   /// Stored class name: "RangeImage3D".
   static constexpr std::string_view kClassName = "RangeImage3D";
@@ -150,8 +150,6 @@ class RangeImage3D final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const RangeImage3D& a, const RangeImage3D& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 2; }
   /// Writes the fields (Serializable contract).
@@ -160,10 +158,6 @@ class RangeImage3D final : public Observation {
   /// including a depth image that fails check() (sizes that disagree with
   /// the camera, max_range <= 0).
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 }  // namespace rove

@@ -33,7 +33,7 @@ enum class ScanFrame : std::uint8_t {
 /// ranges[i] is finite and >= 0. A NaN, infinite or negative range is
 /// therefore never projected even if flagged valid; set_ranges() clears the
 /// flag of such rays when it builds the flags.
-class RangeScan2D final : public Observation {
+class RangeScan2D final : public ObservationOf<RangeScan2D> {
  public:
   /// Stored class name: "RangeScan2D".
   static constexpr std::string_view kClassName = "RangeScan2D";
@@ -103,18 +103,12 @@ class RangeScan2D final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const RangeScan2D& a, const RangeScan2D& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 1; }
   /// Writes the fields; throws InvalidArgument if check() fails.
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 }  // namespace rove

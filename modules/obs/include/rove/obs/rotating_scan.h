@@ -21,7 +21,7 @@
 namespace rove {
 
 /// An organized scan from a spinning lidar.
-class RotatingScan final : public Observation {
+class RotatingScan final : public ObservationOf<RotatingScan> {
  public:
   /// Stored class name: "RotatingScan".
   static constexpr std::string_view kClassName = "RotatingScan";
@@ -76,18 +76,12 @@ class RotatingScan final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const RotatingScan& a, const RotatingScan& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 1; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 }  // namespace rove

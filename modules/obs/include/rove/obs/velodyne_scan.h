@@ -89,7 +89,7 @@ void save(OutArchive& ar, const VelodynePointCloud& c);
 void load(InArchive& ar, VelodynePointCloud& c);
 
 /// One revolution of raw Velodyne data.
-class VelodyneScan final : public Observation {
+class VelodyneScan final : public ObservationOf<VelodyneScan> {
  public:
   /// Stored class name: "VelodyneScan".
   static constexpr std::string_view kClassName = "VelodyneScan";
@@ -113,18 +113,12 @@ class VelodyneScan final : public Observation {
   /// Exact equality of every field.
   friend bool operator==(const VelodyneScan& a, const VelodyneScan& b);
 
-  /// The stored class name (kClassName).
-  std::string_view class_name() const override { return kClassName; }
   /// The newest record version this build writes.
   std::uint8_t version() const override { return 1; }
   /// Writes the fields (Serializable contract).
   void save_payload(OutArchive& ar) const override;
   /// Reads fields written by save_payload; ParseError on malformed data.
   void load_payload(InArchive& ar, std::uint8_t version) override;
-  /// A deep copy.
-  std::unique_ptr<Observation> clone() const override;
-  /// Same dynamic type and operator==.
-  bool equals(const Observation& other) const override;
 };
 
 }  // namespace rove
