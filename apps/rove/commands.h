@@ -25,5 +25,8 @@ void add_graph_slam_command(CLI::App& app);
 /// `rove align SOURCE TARGET [--method icp|point-to-plane|gicp|ndt] [--init ...] [--voxel L]`:
 /// register two point clouds and print T_target_source.
 void add_align_command(CLI::App& app);
+/// `rove eval ate|rpe|relations`: trajectory evaluation against ground
+/// truth or relations.
+void add_eval_command(CLI::App& app);
 
 }  // namespace rove::cli

@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "canvas.h"
 #include "rove/core/check.h"
 #include "rove/io/gray_image.h"
 
@@ -27,42 +28,6 @@ const std::vector<PaletteColor> kPalette = {
     {0, 160, 0},      // anchors
 };
 
-class Canvas {
- public:
-  Canvas(int w, int h) {
-    image_.width = static_cast<std::uint32_t>(w);
-    image_.height = static_cast<std::uint32_t>(h);
-    image_.pixels.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kBackground);
-  }
-  void set(int x, int y, Gray c) {
-    if (x < 0 || y < 0 || x >= width() || y >= height()) return;
-    image_.pixels[static_cast<std::size_t>(y) * image_.width + static_cast<std::size_t>(x)] = c;
-  }
-  // Bresenham line.
-  void line(int x0, int y0, int x1, int y1, Gray c) {
-    const int dx = std::abs(x1 - x0), sx = x0 < x1 ? 1 : -1;
-    const int dy = -std::abs(y1 - y0), sy = y0 < y1 ? 1 : -1;
-    int err = dx + dy;
-    for (int guard = 0; guard < 4 * (width() + height()); ++guard) {
-      set(x0, y0, c);
-      if (x0 == x1 && y0 == y1) break;
-      const int e2 = 2 * err;
-      if (e2 >= dy) err += dy, x0 += sx;
-      if (e2 <= dx) err += dx, y0 += sy;
-    }
-  }
-  void dot(int x, int y, int r, Gray c) {
-    for (int j = -r; j <= r; ++j)
-      for (int i = -r; i <= r; ++i)
-        if (i * i + j * j <= r * r) set(x + i, y + j, c);
-  }
-  int width() const { return static_cast<int>(image_.width); }
-  int height() const { return static_cast<int>(image_.height); }
-  const GrayImage& image() const { return image_; }
-
- private:
-  GrayImage image_;
-};
 
 }  // namespace
 
@@ -83,9 +48,8 @@ void write_graph_plot(const PoseGraph2D& before, const PoseGraph2D& after,
   if (!(lo_x <= hi_x)) lo_x = lo_y = -1.0, hi_x = hi_y = 1.0;
   const double span = std::max({hi_x - lo_x, hi_y - lo_y, 1e-9});
   const int margin = 10, inner = panel_px - 2 * margin, gap = 10;
-  Canvas canvas(2 * panel_px + gap, panel_px);
-  for (int y = 0; y < panel_px; ++y)
-    for (int x = panel_px; x < panel_px + gap; ++x) canvas.set(x, y, kSeparator);
+  Canvas canvas(2 * panel_px + gap, panel_px, kBackground);
+  canvas.fill(panel_px, 0, panel_px + gap, panel_px, kSeparator);
   const double scale = inner / span;
   const double cx = 0.5 * (lo_x + hi_x), cy = 0.5 * (lo_y + hi_y);
   int panel = 0;

@@ -1,12 +1,14 @@
 #include "rove/io/tum_trajectory.h"
 
-#include <algorithm>
-#include <charconv>
+#include <array>
 #include <cmath>
 #include <cstddef>
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
+
+#include "number_rows.h"
 #include "rove/core/error.h"
 #include "rove/core/files.h"
 
@@ -25,45 +27,20 @@ void write_tum_trajectory(const std::string& path, const std::vector<TimedPose2>
   out.commit();
 }
 
-std::vector<TumPose> read_tum_trajectory(const std::string& path) {
-  const std::string text = read_input_file(path, 1ull << 32, "trajectory");
-  std::vector<TumPose> out;
-  std::size_t line_no = 0;
-  for (std::size_t pos = 0; pos < text.size();) {
-    const std::size_t eol = std::min(text.find('\n', pos), text.size());
-    const std::string_view line(text.data() + pos, eol - pos);
-    pos = eol + 1;
-    ++line_no;
-    const std::size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string_view::npos || line[first] == '#') continue;
-    double v[8];
-    std::size_t n = 0, i = first;
-    while (i < line.size()) {
-      const std::size_t end = std::min(line.find_first_of(" \t\r", i), line.size());
-      if (end > i) {
-        if (n == 8) {
-          throw ParseError({printable(path), line_no, std::nullopt, "pose"}, "more than 8 fields (t x y z qx qy qz qw)");
-        }
-        const std::string_view tok = line.substr(i, end - i);
-        const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), v[n]);
-        if (r.ec != std::errc() || r.ptr != tok.data() + tok.size() || !std::isfinite(v[n])) {
-          static const char* const kFields[] = {"t", "x", "y", "z", "qx", "qy", "qz", "qw"};
-          throw ParseError({printable(path), line_no, std::nullopt, kFields[n]},
-                           fmt::format("'{}' is not a finite number", printable(tok)));
-        }
-        ++n;
-      }
-      i = end + 1;
-    }
-    if (n != 8) {
-      throw ParseError({printable(path), line_no, std::nullopt, "pose"},
-                       fmt::format("{} fields, expected 8 (t x y z qx qy qz qw)", n));
-    }
+std::vector<StampedPose3> parse_tum_trajectory(std::string_view text, std::string_view source) {
+  static constexpr std::array<const char*, 8> kFields = {"t", "x", "y", "z", "qx", "qy", "qz", "qw"};
+  std::vector<StampedPose3> out;
+  detail::for_each_number_row(text, source, kFields, [&](std::span<const double> v, std::size_t line) {
     const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    if (!(q.norm() > 1e-12)) throw ParseError({printable(path), line_no, std::nullopt, "qw"}, "the quaternion is zero");
+    if (!(q.norm() > 1e-12))
+      throw ParseError({printable(source), line, std::nullopt, "qw"}, "the quaternion is zero");
     out.push_back({v[0], SE3d(q.normalized(), Eigen::Vector3d(v[1], v[2], v[3]))});
-  }
+  });
   return out;
+}
+
+std::vector<StampedPose3> read_tum_trajectory(const std::string& path) {
+  return parse_tum_trajectory(read_input_file(path, 1ull << 32, "trajectory"), path);
 }
 
 }  // namespace rove

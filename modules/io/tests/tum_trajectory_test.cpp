@@ -44,9 +44,9 @@ TEST(TumTrajectory, ReadsPosesAndRejectsBadLines) {
   const auto poses = read_tum_trajectory(file);
   ASSERT_EQ(poses.size(), 2u);
   EXPECT_EQ(poses[0].time, 1.5);
-  EXPECT_TRUE(poses[0].T_world_body.translation().isApprox(Eigen::Vector3d(1, 2, 3)));
-  EXPECT_NEAR((poses[0].T_world_body.rotation() * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 0, 1e-12);
-  EXPECT_TRUE(poses[1].T_world_body.rotation().matrix().isApprox(Eigen::Matrix3d::Identity()));  // normalized
+  EXPECT_TRUE(poses[0].pose.translation().isApprox(Eigen::Vector3d(1, 2, 3)));
+  EXPECT_NEAR((poses[0].pose.rotation() * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 0, 1e-12);
+  EXPECT_TRUE(poses[1].pose.rotation().matrix().isApprox(Eigen::Matrix3d::Identity()));  // normalized
   for (const char* bad : {"1 2 3\n", "1 2 3 4 5 6 7 8 9\n", "1 2 3 4 0 0 0 0\n", "1 2 x 4 0 0 0 1\n", "1 2 nan 4 0 0 0 1\n"}) {
     std::ofstream(file) << "# header\n" << bad;
     try {

@@ -5,9 +5,10 @@
 /// as a unit quaternion), `#` comment lines.
 
 #include <string>
+#include <string_view>
 #include <vector>
 
-#include "rove/math/se3.h"
+#include "rove/io/trajectory_files.h"
 #include "rove/obs/timestamp.h"
 #include "rove/poses/pose2.h"
 
@@ -26,16 +27,14 @@ struct TimedPose2 {
 /// (rove/core/files.h); throws IoError if the file cannot be written.
 void write_tum_trajectory(const std::string& path, const std::vector<TimedPose2>& poses);
 
-/// A pose of a TUM trajectory.
-struct TumPose {
-  double time = 0.0;   ///< t, seconds
-  SE3d T_world_body;   ///< the pose (the quaternion normalized)
-};
-
 /// Reads a TUM trajectory: blank and `#` lines are skipped, every other line
 /// holds 8 numbers. Throws IoError if the file cannot be read, ParseError
 /// (file, line, field) for a line with another count of fields, a number
 /// that does not parse or is not finite, or a quaternion of norm 0.
-std::vector<TumPose> read_tum_trajectory(const std::string& path);
+std::vector<StampedPose3> read_tum_trajectory(const std::string& path);
+
+/// Parses a TUM trajectory from text; `source` names it in errors.
+std::vector<StampedPose3> parse_tum_trajectory(std::string_view text,
+                                               std::string_view source = "<string>");
 
 }  // namespace rove
