@@ -52,7 +52,10 @@ void for_each_number_row(std::string_view text, std::string_view source,
     if (!fields) return true;
     if (fields->size() != field_names.size()) {
       std::string names;
-      for (const char* n : field_names) names += (names.empty() ? "" : " ") + std::string(n);
+      for (const char* n : field_names) {
+        if (!names.empty()) names += ' ';
+        names += n;
+      }
       throw ParseError({printable(source), line_no, std::nullopt, "row"},
                        fmt::format("{} fields, expected {} ({})", fields->size(),
                                    field_names.size(), names));
