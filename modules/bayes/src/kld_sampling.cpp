@@ -91,4 +91,35 @@ std::size_t KldBinHash::operator()(const KldBin& b) const noexcept {
   return static_cast<std::size_t>(h);
 }
 
+bool KldBinSet::insert(const KldBin& bin) {
+  if (2 * (size_ + 1) > slots_.size()) grow();
+  const std::size_t mask = slots_.size() - 1;
+  for (std::size_t i = KldBinHash{}(bin) & mask;; i = (i + 1) & mask) {
+    if (!used_[i]) {
+      slots_[i] = bin;
+      used_[i] = 1;
+      ++size_;
+      return true;
+    }
+    if (slots_[i] == bin) return false;
+  }
+}
+
+void KldBinSet::clear() noexcept {
+  std::fill(used_.begin(), used_.end(), std::uint8_t{0});
+  size_ = 0;
+}
+
+void KldBinSet::grow() {
+  std::vector<KldBin> old_slots = std::move(slots_);
+  std::vector<std::uint8_t> old_used = std::move(used_);
+  const std::size_t capacity = old_slots.empty() ? 64 : 2 * old_slots.size();
+  slots_.assign(capacity, KldBin{});
+  used_.assign(capacity, 0);
+  size_ = 0;
+  for (std::size_t i = 0; i < old_slots.size(); ++i) {
+    if (old_used[i]) insert(old_slots[i]);
+  }
+}
+
 }  // namespace rove

@@ -139,4 +139,30 @@ std::size_t draw_from_cumulative(std::span<const double> cumulative, double u) {
   return std::min(static_cast<std::size_t>(it - cumulative.begin()), cumulative.size() - 1);
 }
 
+CumulativeSampler::CumulativeSampler(std::span<const double> log_weights)
+    : cumulative_(cumulative_weights(log_weights)) {
+  const std::size_t n = cumulative_.size();
+  ROVE_CHECK_MSG(n < (std::size_t{1} << 32), "{} weights: at most 2^32 - 1", n);
+  guide_.resize(n);
+  std::size_t i = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double start = static_cast<double>(j) / static_cast<double>(n);
+    while (i + 1 < n && cumulative_[i] <= start) ++i;
+    guide_[j] = static_cast<std::uint32_t>(i);
+  }
+}
+
+std::size_t CumulativeSampler::draw(double u) const {
+  ROVE_CHECK_MSG(u >= 0.0 && u < 1.0, "a draw needs u in [0, 1), got {}", u);
+  const std::size_t n = cumulative_.size();
+  const auto slices = static_cast<double>(n);
+  std::size_t j = std::min(static_cast<std::size_t>(u * slices), n - 1);
+  // u · N may round up to the next slice; the slice's start must not pass u
+  // (the same expression as in the constructor, so the comparison is exact).
+  while (j > 0 && static_cast<double>(j) / slices > u) --j;
+  std::size_t i = guide_[j];
+  while (i + 1 < n && cumulative_[i] <= u) ++i;
+  return i;
+}
+
 }  // namespace rove

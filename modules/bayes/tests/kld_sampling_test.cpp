@@ -2,10 +2,13 @@
 
 #include <cmath>
 #include <numbers>
+#include <set>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
 #include "rove/bayes/distributions.h"
+#include "rove/bayes/random.h"
 #include "rove/core/error.h"
 
 namespace rove {
@@ -76,6 +79,26 @@ TEST(Kld, BinsRoundAsMrpt) {
   EXPECT_EQ(set.size(), 2u);
   EXPECT_THROW(kld_bin(std::nan(""), 0.0, 0.0, o), InvalidArgument);
   EXPECT_NO_THROW(kld_bin(1e300, 0.0, 0.0, o));
+}
+
+// The open-addressing set against std::set: through several growths, with
+// duplicates and colliding neighbours, and after clear().
+TEST(Kld, BinSetCountsAsAnOrderedSet) {
+  const auto key = [](const KldBin& b) { return std::tuple(b.x, b.y, b.phi); };
+  Rng rng(5);
+  KldBinSet set;
+  for (int round = 0; round < 2; ++round) {
+    std::set<std::tuple<std::int64_t, std::int64_t, std::int64_t>> oracle;
+    for (int i = 0; i < 30000; ++i) {
+      const KldBin b{static_cast<std::int64_t>(rng.uniform_index(60)) - 30,
+                     static_cast<std::int64_t>(rng.uniform_index(40)),
+                     static_cast<std::int64_t>(rng.uniform_index(72)) - 36};
+      ASSERT_EQ(set.insert(b), oracle.insert(key(b)).second) << i;
+      ASSERT_EQ(set.size(), oracle.size());
+    }
+    set.clear();
+    EXPECT_EQ(set.size(), 0u);
+  }
 }
 
 // The KLD options of `section` in the INI text.

@@ -92,5 +92,30 @@ TEST(Rng, NormalFitsTheStandardNormal) {
   EXPECT_NEAR(r2.normal(3.0, 0.0), 3.0, 0.0);
 }
 
+// Both outputs of a pair are standard normal (chi-square over the same 40
+// bins), uncorrelated, and the first is what normal() gives from the same
+// state.
+TEST(Rng, NormalPairsAreIndependentStandardNormals) {
+  Rng a(21), b(21);
+  EXPECT_EQ(a.normal_pair()[0], b.normal());
+  Rng rng(10);
+  const int n = 200000, k = 40;
+  std::vector<double> edges;
+  for (int i = 1; i < k; ++i) edges.push_back(normal_quantile(static_cast<double>(i) / k));
+  std::vector<int> first(k, 0), second(k, 0);
+  double sum_xy = 0, sum_y = 0, sum_y2 = 0;
+  for (int i = 0; i < n; ++i) {
+    const auto [x, y] = rng.normal_pair();
+    sum_xy += x * y, sum_y += y, sum_y2 += y * y;
+    ++first[std::upper_bound(edges.begin(), edges.end(), x) - edges.begin()];
+    ++second[std::upper_bound(edges.begin(), edges.end(), y) - edges.begin()];
+  }
+  EXPECT_LT(chi_square_uniform(first, n), chi_square_quantile(0.999, k - 1));
+  EXPECT_LT(chi_square_uniform(second, n), chi_square_quantile(0.999, k - 1));
+  EXPECT_NEAR(sum_y / n, 0.0, 5.0 / std::sqrt(n));
+  EXPECT_NEAR(sum_y2 / n, 1.0, 5.0 * std::sqrt(2.0 / n));
+  EXPECT_NEAR(sum_xy / n, 0.0, 5.0 / std::sqrt(n));  // correlation, both of unit variance
+}
+
 }  // namespace
 }  // namespace rove

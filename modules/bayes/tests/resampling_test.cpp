@@ -195,5 +195,45 @@ TEST(Resampling, DrawFromCumulativeSkipsZeroWeights) {
   EXPECT_EQ(draw_from_cumulative(c, std::nextafter(1.0, 0.0)), 3u);
 }
 
+// The guide table gives the binary search's index for every u: random u,
+// the slice starts j/N, the cumulative sums themselves and their
+// neighbours, over weights with zeros, a dominant particle and near-ties.
+TEST(Resampling, CumulativeSamplerEqualsTheBinarySearch) {
+  Rng rng(11);
+  std::vector<std::vector<double>> cases = {
+      {0.0},
+      {-kInf, 0.0, -kInf, 0.0, -kInf},
+      {0.0, -800.0, -800.0, -800.0, 0.0},
+      {-kInf, -kInf, -kInf, 5.0},
+  };
+  std::vector<double> uneven(997);
+  for (double& w : uneven) w = 8.0 * rng.uniform() - (rng.uniform() < 0.3 ? kInf : 0.0);
+  uneven[500] = 0.0;
+  cases.push_back(uneven);
+  std::vector<double> peaked(1000, -30.0);
+  peaked[999] = 0.0;
+  cases.push_back(peaked);
+  for (const auto& lw : cases) {
+    const CumulativeSampler sampler(lw);
+    const std::vector<double>& c = sampler.cumulative();
+    EXPECT_EQ(c, cumulative_weights(lw));
+    std::vector<double> us = {0.0, std::nextafter(1.0, 0.0)};
+    for (std::size_t j = 0; j < c.size(); ++j) {
+      const double start = static_cast<double>(j) / static_cast<double>(c.size());
+      us.insert(us.end(), {start, std::nextafter(start, 0.0), std::nextafter(start, 1.0)});
+      if (c[j] < 1.0) us.insert(us.end(), {c[j], std::nextafter(c[j], 0.0), std::nextafter(c[j], 1.0)});
+    }
+    for (int k = 0; k < 20000; ++k) us.push_back(rng.uniform());
+    for (const double u : us) {
+      if (!(u >= 0.0 && u < 1.0)) continue;
+      ASSERT_EQ(sampler.draw(u), draw_from_cumulative(c, u)) << "u " << u << ", " << lw.size();
+    }
+  }
+  const CumulativeSampler one(std::vector<double>{0.0});
+  EXPECT_THROW(one.draw(1.0), InvalidArgument);
+  EXPECT_THROW(one.draw(-0.1), InvalidArgument);
+  EXPECT_THROW(CumulativeSampler(std::vector<double>{}), InvalidArgument);
+}
+
 }  // namespace
 }  // namespace rove

@@ -21,7 +21,6 @@
 #include <numbers>
 #include <string>
 #include <string_view>
-#include <unordered_set>
 #include <vector>
 
 #include "rove/core/config_section.h"
@@ -104,18 +103,25 @@ struct KldBinHash {
   std::size_t operator()(const KldBin& b) const noexcept;
 };
 
-/// The set of occupied bins, counting k for Fox's formula.
+/// The set of occupied bins, counting k for Fox's formula: an
+/// open-addressing table (linear probing, at most half full), so that
+/// marking the bins of tens of thousands of particles per step allocates
+/// a few times instead of once per bin.
 class KldBinSet {
  public:
   /// Marks `bin` occupied; true if it was not before.
-  bool insert(const KldBin& bin) { return bins_.insert(bin).second; }
+  bool insert(const KldBin& bin);
   /// Occupied bins k.
-  std::size_t size() const noexcept { return bins_.size(); }
+  std::size_t size() const noexcept { return size_; }
   /// Forgets every bin.
-  void clear() noexcept { bins_.clear(); }
+  void clear() noexcept;
 
  private:
-  std::unordered_set<KldBin, KldBinHash> bins_;
+  void grow();
+
+  std::vector<KldBin> slots_;
+  std::vector<std::uint8_t> used_;  // 1 where slots_ holds a bin
+  std::size_t size_ = 0;
 };
 
 }  // namespace rove

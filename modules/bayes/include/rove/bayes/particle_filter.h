@@ -48,7 +48,8 @@
 /// slightly, as in MRPT).
 ///
 /// With adaptive_sample_size, every algorithm draws ancestors one at a time
-/// from the (first-stage) weights, multinomially, and stops by Fox's KLD
+/// from the (first-stage) weights, multinomially (CumulativeSampler, one
+/// uniform of its own stream per offspring), and stops by Fox's KLD
 /// rule (rove/bayes/kld_sampling.h); the weights then carry only the
 /// algorithm's second-stage factor, and no further ESS resampling is done
 /// (as MRPT). Offspring are made in parallel in chunks that the sequential

@@ -116,6 +116,15 @@ class Rng {
   /// A normal sample with the given mean and standard deviation
   /// (Precondition, unchecked: sigma ≥ 0).
   double normal(double mean, double sigma) noexcept { return mean + sigma * normal(); }
+  /// Two independent standard normal samples from one Box–Muller
+  /// transform, √(−2 ln u₁) · (cos 2πu₂, sin 2πu₂): half the logarithms
+  /// and square roots of two normal() calls. The first is what normal()
+  /// would have given.
+  std::array<double, 2> normal_pair() noexcept {
+    const double r = std::sqrt(-2.0 * std::log(uniform_positive()));
+    const double a = 2.0 * std::numbers::pi * uniform();
+    return {r * std::cos(a), r * std::sin(a)};
+  }
 
   /// Equality of the full state.
   friend constexpr bool operator==(const Rng&, const Rng&) = default;

@@ -74,4 +74,27 @@ std::size_t draw_from_cumulative(std::span<const double> cumulative, double u);
 /// Preconditions as resampling_counts().
 std::vector<double> cumulative_weights(std::span<const double> log_weights);
 
+/// draw_from_cumulative() in expected constant time per draw, for drawing
+/// many single indices from one set of weights (KLD-sampling draws each
+/// offspring's ancestor from its own random stream): the guide table of
+/// Chen and Asau ("On generating random variates from an empirical
+/// distribution", AIIE Transactions 6(2), 1974) points each of N equal
+/// slices of [0, 1) at the first index whose cumulative sum exceeds the
+/// slice's start, and a draw scans forward from there. The index drawn
+/// for u is exactly draw_from_cumulative(cumulative(), u).
+class CumulativeSampler {
+ public:
+  /// The table of `log_weights`. Preconditions (InvalidArgument) as
+  /// cumulative_weights(), and fewer than 2³² weights.
+  explicit CumulativeSampler(std::span<const double> log_weights);
+  /// The index for u. Precondition (InvalidArgument): 0 ≤ u < 1.
+  std::size_t draw(double u) const;
+  /// The cumulative sums (cumulative_weights() of the weights).
+  const std::vector<double>& cumulative() const noexcept { return cumulative_; }
+
+ private:
+  std::vector<double> cumulative_;
+  std::vector<std::uint32_t> guide_;  // guide_[j]: first i with cᵢ > j / N
+};
+
 }  // namespace rove

@@ -232,7 +232,7 @@ class ParticleFilterStepRunner {
   void adaptive() {
     selected_ = true;
     const std::vector<double>& weights = auxiliary() ? sel_w_ : prev_w_;
-    const std::vector<double> cumulative = cumulative_weights(weights);
+    const CumulativeSampler sampler(weights);
     std::size_t previous_bins = 0;
     if (kld_.min_samples_per_bin > 0.0) {
       KldBinSet old;
@@ -247,20 +247,26 @@ class ParticleFilterStepRunner {
       resize_outputs(target);
       for (std::size_t n = done; n < target; ++n) {
         Rng rng = stream(3, n);
-        ancestors_[n] = guard_ancestor(n, draw_from_cumulative(cumulative, rng.uniform()));
+        ancestors_[n] = guard_ancestor(n, sampler.draw(rng.uniform()));
       }
       mark_first_offspring(done, target);
       generate(done, target);
-      for (std::size_t n = done; n < target; ++n) bins.insert(bin_of(states_[n]));
+      for (std::size_t n = done; n < target; ++n) bins.insert(offspring_bins_[n]);
       done = target;
       target = kld_target_count(bins.size(), previous_bins, kld_);
     }
     result_.kld_bins = bins.size();
   }
 
-  /// Makes offspring [begin, end) from their ancestors, in parallel.
+  /// Makes offspring [begin, end) from their ancestors, in parallel (with
+  /// KLD-sampling also their bins).
   void generate(std::size_t begin, std::size_t end) {
-    parallel_for(end - begin, team_, [&](std::size_t k) { propose(begin + k); });
+    const bool bins = options_.adaptive_sample_size;
+    if (bins) offspring_bins_.resize(end);
+    parallel_for(end - begin, team_, [&](std::size_t k) {
+      propose(begin + k);
+      if (bins) offspring_bins_[begin + k] = bin_of(states_[begin + k]);
+    });
   }
 
   /// Offspring n of ancestor ancestors_[n]: its state and unnormalized
@@ -352,8 +358,7 @@ class ParticleFilterStepRunner {
       r.discarded_ancestors += discarded_[i];
       r.rejection_timeouts += timeouts_[i];
     }
-    double log_total = -kInf;
-    for (const double w : log_w_) log_total = log_add_exp(log_total, w);
+    const double log_total = log_sum_exp(log_w_);
     r.termination = input_.has_observation ? ParticleFilterTermination::Updated
                                            : ParticleFilterTermination::Predicted;
     if (log_total == -kInf) {
@@ -361,12 +366,15 @@ class ParticleFilterStepRunner {
       for (std::size_t i = 0; i < n; ++i) log_w_[i] = selected_ ? 0.0 : prev_w_[ancestors_[i]];
       r.termination = ParticleFilterTermination::Degenerate;
       r.log_evidence = -kInf;
-    } else if (input_.has_observation) {
-      const double selection_norm = selected_ && auxiliary() ? log_sum_exp(sel_w_) : 0.0;
-      r.log_evidence = selected_ ? selection_norm + log_total - std::log(static_cast<double>(n))
-                                 : log_total;
+      normalize_log_weights(log_w_);
+    } else {
+      if (input_.has_observation) {
+        const double selection_norm = selected_ && auxiliary() ? log_sum_exp(sel_w_) : 0.0;
+        r.log_evidence = selected_ ? selection_norm + log_total - std::log(static_cast<double>(n))
+                                   : log_total;
+      }
+      for (double& w : log_w_) w -= log_total;  // normalized: −inf stays −inf
     }
-    normalize_log_weights(log_w_);
     r.ess_before_resampling = summarize_log_weights(log_w_).normalized_ess;
     const bool may_resample = !options_.adaptive_sample_size && !auxiliary();
     if (may_resample && r.ess_before_resampling < options_.beta) {
@@ -413,6 +421,7 @@ class ParticleFilterStepRunner {
   std::vector<State> states_;
   std::vector<double> log_w_;
   std::vector<char> discarded_, timeouts_;
+  std::vector<KldBin> offspring_bins_;  // KLD bin of each offspring (adaptive)
 };
 
 }  // namespace rove::detail
