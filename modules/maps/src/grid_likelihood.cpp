@@ -303,6 +303,18 @@ void GridLikelihoodModel<Cell>::log_likelihood(const PreparedGridScan& scan,
 }
 
 template <GridCell Cell>
+double GridLikelihoodModel<Cell>::log_likelihood(const PreparedGridScan& scan,
+                                                 const SE2d& T_map_robot) const {
+  check_fresh();
+  const Eigen::Vector2d& t = T_map_robot.translation();
+  if (scan.usable && options_.method == GridLikelihoodMethod::kLikelihoodFieldThrun) {
+    const Eigen::Vector2d cs = T_map_robot.rotation().unit_complex();
+    return likelihood_field(scan, t.x(), t.y(), cs.x(), cs.y());
+  }
+  return eval_one(scan, Pose2(t.x(), t.y(), T_map_robot.angle()));
+}
+
+template <GridCell Cell>
 double GridLikelihoodModel<Cell>::log_likelihood(const RangeScan2D& scan,
                                                  const Pose3& T_map_robot) const {
   check_fresh();
@@ -355,6 +367,34 @@ float simulate_ray(const OccupancyGridT<Cell>& g, double x, double y, double ang
 }  // namespace detail
 
 template <GridCell Cell>
+double GridLikelihoodModel<Cell>::likelihood_field(const PreparedGridScan& s, double x0, double y0,
+                                                   double c, double sn) const {
+  const auto& g = *grid_;
+  const GridLikelihoodOptions& o = options_;
+  const std::size_t n = s.xs.size();
+  if (n == 0) return -100.0;
+  const std::size_t step = n < 10 ? 1 : o.lf_decimation;
+  const int lim_x = static_cast<int>(g.size_x()) - 1, lim_y = static_cast<int>(g.size_y()) - 1;
+  double sum = 0.0;
+  std::size_t m = 0;
+  const double* field = field_.data();
+  for (std::size_t j = 0; j < n; j += step, ++m) {
+    const double lx = s.xs[j], ly = s.ys[j];
+    const double gx = x0 + lx * c - ly * sn;
+    const double gy = y0 + lx * sn + ly * c;
+    const int cx = g.x_to_idx_clamped(gx), cy = g.y_to_idx_clamped(gy);
+    // MRPT treats the last row and column as outside.
+    if (static_cast<unsigned>(cx) >= static_cast<unsigned>(lim_x) ||
+        static_cast<unsigned>(cy) >= static_cast<unsigned>(lim_y)) {
+      sum += field_outside_;
+    } else {
+      sum += field[g.index(cx, cy)];
+    }
+  }
+  return o.lf_alternate_average_method ? std::log(sum / static_cast<double>(m)) : sum;
+}
+
+template <GridCell Cell>
 double GridLikelihoodModel<Cell>::eval_one(const PreparedGridScan& s, const Pose2& pose) const {
   if (!s.usable) return s.fixed_value;
   const auto& g = *grid_;
@@ -364,28 +404,8 @@ double GridLikelihoodModel<Cell>::eval_one(const PreparedGridScan& s, const Pose
   const double c = std::cos(pose.phi()), sn = std::sin(pose.phi());
   const double x0 = pose.x(), y0 = pose.y();
   switch (o.method) {
-    case GridLikelihoodMethod::kLikelihoodFieldThrun: {
-      if (n == 0) return -100.0;
-      const std::size_t step = n < 10 ? 1 : o.lf_decimation;
-      const int lim_x = static_cast<int>(g.size_x()) - 1, lim_y = static_cast<int>(g.size_y()) - 1;
-      double sum = 0.0;
-      std::size_t m = 0;
-      const double* field = field_.data();
-      for (std::size_t j = 0; j < n; j += step, ++m) {
-        const double lx = s.xs[j], ly = s.ys[j];
-        const double gx = x0 + lx * c - ly * sn;
-        const double gy = y0 + lx * sn + ly * c;
-        const int cx = g.x_to_idx_clamped(gx), cy = g.y_to_idx_clamped(gy);
-        // MRPT treats the last row and column as outside.
-        if (static_cast<unsigned>(cx) >= static_cast<unsigned>(lim_x) ||
-            static_cast<unsigned>(cy) >= static_cast<unsigned>(lim_y)) {
-          sum += field_outside_;
-        } else {
-          sum += field[g.index(cx, cy)];
-        }
-      }
-      return o.lf_alternate_average_method ? std::log(sum / static_cast<double>(m)) : sum;
-    }
+    case GridLikelihoodMethod::kLikelihoodFieldThrun:
+      return likelihood_field(s, x0, y0, c, sn);
     case GridLikelihoodMethod::kLikelihoodFieldII: {
       if (n == 0) return 1e-100;
       const float z_random_term = 1.0f / o.lf_max_range;

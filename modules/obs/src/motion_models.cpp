@@ -1,5 +1,6 @@
 #include "rove/obs/motion_models.h"
 
+#include <array>
 #include <cmath>
 
 #include "rove/core/check.h"
@@ -27,27 +28,35 @@ Pose2Gaussian gaussian_motion_model(const Pose2& u, const GaussianMotionOptions&
   return Pose2Gaussian(u, C);
 }
 
-Pose2 sample_thrun_motion(const Pose2& u, const ThrunMotionOptions& o, std::mt19937_64& rng) {
+ThrunMotionSampler::ThrunMotionSampler(const Pose2& u, const ThrunMotionOptions& o)
+    : add_xy_(o.additional_std_xy_m), add_phi_(o.additional_std_phi_rad) {
   o.check();
   // Probabilistic Robotics, table 5.6, with MRPT's linear standard deviations.
-  const double rot1 = (u.x() != 0.0 || u.y() != 0.0) ? std::atan2(u.y(), u.x()) : 0.0;
-  const double trans = u.norm();
-  const double rot2 = wrap_to_pi(u.phi() - rot1);
+  rot1_ = (u.x() != 0.0 || u.y() != 0.0) ? std::atan2(u.y(), u.x()) : 0.0;
+  trans_ = u.norm();
+  rot2_ = wrap_to_pi(u.phi() - rot1_);
+  s_rot1_ = o.alpha1_rot_rot * std::abs(rot1_) + o.alpha2_rot_trans_rad_per_m * trans_;
+  s_trans_ = o.alpha3_trans_trans * trans_ +
+             o.alpha4_trans_rot_m_per_rad * (std::abs(rot1_) + std::abs(rot2_));
+  s_rot2_ = o.alpha1_rot_rot * std::abs(rot2_) + o.alpha2_rot_trans_rad_per_m * trans_;
+}
 
+ThrunMotionSample ThrunMotionSampler::sample(const std::array<double, 6>& n) const noexcept {
+  const double rot1_hat = rot1_ - s_rot1_ * n[0];
+  const double trans_hat = trans_ - s_trans_ * n[1];
+  const double rot2_hat = rot2_ - s_rot2_ * n[2];
+  return {trans_hat * std::cos(rot1_hat) + add_xy_ * n[3],
+          trans_hat * std::sin(rot1_hat) + add_xy_ * n[4],
+          rot1_hat + rot2_hat + add_phi_ * n[5]};
+}
+
+Pose2 sample_thrun_motion(const Pose2& u, const ThrunMotionOptions& o, std::mt19937_64& rng) {
+  const ThrunMotionSampler sampler(u, o);
   std::normal_distribution<double> n01(0.0, 1.0);
-  const double s_rot1 = o.alpha1_rot_rot * std::abs(rot1) + o.alpha2_rot_trans_rad_per_m * trans;
-  const double s_trans = o.alpha3_trans_trans * trans +
-                         o.alpha4_trans_rot_m_per_rad * (std::abs(rot1) + std::abs(rot2));
-  const double s_rot2 = o.alpha1_rot_rot * std::abs(rot2) + o.alpha2_rot_trans_rad_per_m * trans;
-
-  const double rot1_hat = rot1 - s_rot1 * n01(rng);
-  const double trans_hat = trans - s_trans * n01(rng);
-  const double rot2_hat = rot2 - s_rot2 * n01(rng);
-
-  const double x = trans_hat * std::cos(rot1_hat) + o.additional_std_xy_m * n01(rng);
-  const double y = trans_hat * std::sin(rot1_hat) + o.additional_std_xy_m * n01(rng);
-  const double phi = rot1_hat + rot2_hat + o.additional_std_phi_rad * n01(rng);
-  return Pose2(x, y, phi);
+  std::array<double, 6> n{};
+  for (double& v : n) v = n01(rng);
+  const ThrunMotionSample s = sampler.sample(n);
+  return Pose2(s.x, s.y, s.phi);
 }
 
 Pose2Particles thrun_motion_particles(const Pose2& u, const ThrunMotionOptions& o,

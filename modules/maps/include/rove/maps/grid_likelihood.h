@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "rove/core/config_section.h"
+#include "rove/math/se2.h"
 #include "rove/maps/grid_insertion.h"
 #include "rove/maps/occupancy_grid.h"
 #include "rove/obs/range_scan_2d.h"
@@ -163,6 +164,10 @@ class GridLikelihoodModel {
   /// Precondition (InvalidArgument): out.size() == poses.size().
   void log_likelihood(const PreparedGridScan& scan, std::span<const Pose2> poses,
                       std::span<double> out) const;
+  /// The same with the pose as an SE2d. For the likelihood field its
+  /// rotation's cosine and sine are used directly (the particle filter's
+  /// path); the other methods go through Pose2.
+  double log_likelihood(const PreparedGridScan& scan, const SE2d& T_map_robot) const;
   /// prepare() and log_likelihood() in one call; a 3D pose is reduced to
   /// (x, y, yaw) as MRPT does.
   double log_likelihood(const RangeScan2D& scan, const Pose3& T_map_robot) const;
@@ -175,6 +180,8 @@ class GridLikelihoodModel {
  private:
   void check_fresh() const;
   double eval_one(const PreparedGridScan& s, const Pose2& pose) const;
+  double likelihood_field(const PreparedGridScan& s, double x0, double y0, double c,
+                          double sn) const;
 
   const OccupancyGridT<Cell>* grid_;
   GridLikelihoodOptions options_;

@@ -5,6 +5,7 @@
 /// increment odometry reports, u = (Δx, Δy, Δφ) in the robot frame at the
 /// start of the motion.
 
+#include <array>
 #include <random>
 
 #include "rove/obs/motion_model_options.h"
@@ -47,6 +48,33 @@ Pose2Gaussian gaussian_motion_model(const Pose2& odometry_increment,
 /// additional_std terms. Precondition (InvalidArgument): options.check().
 Pose2 sample_thrun_motion(const Pose2& odometry_increment, const ThrunMotionOptions& options,
                           std::mt19937_64& rng);
+
+/// One sample of Thrun's model from its six standard normal draws: the
+/// increment (x, y meters; phi radians, not wrapped, in (−2π − ε, 2π + ε)).
+struct ThrunMotionSample {
+  double x = 0.0;    ///< meters
+  double y = 0.0;    ///< meters
+  double phi = 0.0;  ///< radians, not wrapped
+};
+
+/// sample_thrun_motion split in two for callers that draw many samples of
+/// one increment (a particle filter's prediction) from their own random
+/// streams: the constructor does the per-increment work (δrot1, δtrans,
+/// δrot2 and the three standard deviations), sample() maps six independent
+/// N(0, 1) draws n1..n6 (in the order of the formula above) to a sample.
+/// Thread-safety: sample() is const and may run concurrently.
+class ThrunMotionSampler {
+ public:
+  /// Precondition (InvalidArgument): options.check().
+  ThrunMotionSampler(const Pose2& odometry_increment, const ThrunMotionOptions& options);
+  /// The sample for the normal draws `n`.
+  ThrunMotionSample sample(const std::array<double, 6>& n) const noexcept;
+
+ private:
+  double rot1_ = 0.0, trans_ = 0.0, rot2_ = 0.0;
+  double s_rot1_ = 0.0, s_trans_ = 0.0, s_rot2_ = 0.0;
+  double add_xy_ = 0.0, add_phi_ = 0.0;
+};
 
 /// options.particle_count samples of sample_thrun_motion with equal weights:
 /// the sampled PDF MRPT stores in CPosePDFParticles.
