@@ -5,14 +5,17 @@
 #include "rove/core/error.h"
 #include "rove/core/files.h"
 #include "rove/io/grid_image.h"
+#include "rove/io/octree_files.h"
 #include "rove/io/pcd.h"
 #include "rove/io/ply.h"
 #include "rove/maps/beacon_map.h"
 #include "rove/maps/height_map.h"
 #include "rove/maps/landmark_map.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
+#include "rove/maps/metric_map_octree.h"
 #include "rove/maps/metric_map_points.h"
 #include "rove/maps/multi_metric_map.h"
+#include "rove/maps/octree_export.h"
 
 namespace rove {
 namespace {
@@ -86,6 +89,20 @@ std::vector<std::string> save_height_map(const std::string& prefix, const Height
   return out;
 }
 
+std::vector<std::string> save_octree_map(const std::string& prefix, const OccupancyOctree& tree) {
+  // The .bt as MRPT writes it (OctoMap's writeBinaryConst), the full .ot of
+  // a coloured tree (the colours), and the occupied cells as a point cloud.
+  std::vector<std::string> out{prefix + ".bt"};
+  write_octree(out.back(), tree, OctreeFileFormat::Binary, OctreeBinaryContent::AsIs);
+  if (has_channels(tree.channels(), OctreeChannels::Color)) {
+    out.push_back(prefix + ".ot");
+    write_octree(out.back(), tree, OctreeFileFormat::Full);
+  }
+  out.push_back(prefix + "_occupied.ply");
+  write_ply(out.back(), octree_occupied_cloud(tree));
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::string> save_metric_map(const std::string& prefix, const MetricMap& map) {
@@ -107,6 +124,7 @@ std::vector<std::string> save_metric_map(const std::string& prefix, const Metric
   if (const auto* b = dynamic_cast<const BeaconMap*>(&map)) return save_beacon_map(prefix, *b);
   if (const auto* l = dynamic_cast<const LandmarkMap*>(&map)) return save_landmark_map(prefix, *l);
   if (const auto* h = dynamic_cast<const HeightMap*>(&map)) return save_height_map(prefix, *h);
+  if (const auto* o = dynamic_cast<const OctreeMetricMap*>(&map)) return save_octree_map(prefix, o->tree());
   throw InvalidArgument(fmt::format("no file format for a map of kind '{}'", map.kind()));
 }
 

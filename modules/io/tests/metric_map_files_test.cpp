@@ -10,11 +10,13 @@
 
 #include "rove/core/error.h"
 #include "rove/io/gray_image.h"
+#include "rove/io/octree_files.h"
 #include "rove/io/pcd.h"
 #include "rove/io/ply.h"
 #include "rove/maps/beacon_map.h"
 #include "rove/maps/height_map.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
+#include "rove/maps/metric_map_octree.h"
 #include "rove/maps/metric_map_points.h"
 #include "rove/maps/multi_metric_map.h"
 
@@ -113,6 +115,24 @@ TEST_F(MetricMapFiles, MultiMapNumbersEachMapAndNamesItsKind) {
   EXPECT_EQ(row,
             "7 1.000000 2.000000 0.500000 2.500000e-01 1.000000e+00 4.000000e+00 2.500000e-01 "
             "1.000000e+00 0.000000e+00 0.000000e+00 0.000000e+00 gaussian");
+}
+
+TEST_F(MetricMapFiles, OctreeMapsWriteOctoMapFilesAndTheirOccupiedCells) {
+  for (const bool colour : {false, true}) {
+    OctreeMetricMap map(0.1, {}, {}, colour);
+    const std::vector<Eigen::Vector3f> wall = {{2.0f, 0.0f, 0.0f}, {2.0f, 0.5f, 0.0f}, {2.0f, -0.5f, 0.2f}};
+    map.tree().insert_point_cloud(wall, Eigen::Vector3d(0.05, 0.05, 0.05));
+    const auto files = save_metric_map(prefix(colour ? "c" : "o"), map);
+    ASSERT_EQ(files.size(), colour ? 3u : 2u);
+    EXPECT_EQ(files[0], prefix(colour ? "c" : "o") + ".bt");
+    EXPECT_EQ(read_octree(files[0]).num_nodes(), map.tree().num_nodes());
+    if (colour) {
+      EXPECT_EQ(read_octree(files[1]).channels(), OctreeChannels::Color);
+    }
+    const PointCloud occupied = read_ply(files.back());
+    EXPECT_EQ(occupied.size(), 3u);
+    EXPECT_NEAR(occupied.points()[0].x(), 2.05f, 1e-6f);
+  }
 }
 
 TEST_F(MetricMapFiles, UnwritableFolderIsAnIoError) {

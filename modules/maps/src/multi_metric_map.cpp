@@ -13,6 +13,7 @@
 #include "rove/maps/height_map.h"
 #include "rove/maps/landmark_map.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
+#include "rove/maps/metric_map_octree.h"
 #include "rove/maps/metric_map_points.h"
 
 namespace rove {
@@ -113,10 +114,16 @@ const std::vector<KindInfo>& kinds() {
       {"reflectivityMap",
        {"mrpt::maps::CReflectivityGridMap2D", "CReflectivityGridMap2D", "reflectivityMap"},
        {}},
-      {"octoMap", {"mrpt::maps::COctoMap", "COctoMap", "octoMap"}, {}},
+      {"octoMap",
+       {"mrpt::maps::COctoMap", "COctoMap", "octoMap"},
+       [](const IniFile& i, const std::string& p, std::vector<IgnoredConfigKey>* g) {
+         return make_octree_metric_map(i, p, false, g);
+       }},
       {"colourOctoMap",
        {"mrpt::maps::CColouredOctoMap", "CColouredOctoMap", "colourOctoMap", "colorOctoMap"},
-       {}},
+       [](const IniFile& i, const std::string& p, std::vector<IgnoredConfigKey>* g) {
+         return make_octree_metric_map(i, p, true, g);
+       }},
       {"dem_mrf", {"mrpt::maps::CHeightGridMap2D_MRF", "CHeightGridMap2D_MRF", "dem_mrf"}, {}},
       {"occupancyGrid3D", {"mrpt::maps::COccupancyGridMap3D", "COccupancyGridMap3D"}, {}},
   };

@@ -220,16 +220,6 @@ std::vector<Eigen::Vector3f> image_points_mrpt(const RangeImage3D& scan, const P
   return out;
 }
 
-Rgb8 sample_color(const Image& img, double u, double v) {
-  const long ui = std::lround(u), vi = std::lround(v);
-  if (ui < 0 || vi < 0 || ui >= static_cast<long>(img.width) || vi >= static_cast<long>(img.height) ||
-      img.pixel_type != PixelType::kU8)
-    return Rgb8{};
-  const std::size_t base = (static_cast<std::size_t>(vi) * img.width + static_cast<std::size_t>(ui)) * img.channels;
-  if (img.channels >= 3) return Rgb8{img.data[base], img.data[base + 1], img.data[base + 2]};
-  return Rgb8{img.data[base], img.data[base], img.data[base]};
-}
-
 /// Crossing-number point-in-polygon test in XY.
 bool inside_polygon(const std::vector<Eigen::Vector3f>& poly, float x, float y) {
   bool in = false;
@@ -301,6 +291,35 @@ bool PointMap::insert(const RangeScan2D& scan, const Pose3& T_map_robot) {
   return true;
 }
 
+namespace {
+Rgb8 sample_color(const Image& img, double u, double v) {
+  const long ui = std::lround(u), vi = std::lround(v);
+  if (ui < 0 || vi < 0 || ui >= static_cast<long>(img.width) || vi >= static_cast<long>(img.height) ||
+      img.pixel_type != PixelType::kU8)
+    return Rgb8{};
+  const std::size_t base = (static_cast<std::size_t>(vi) * img.width + static_cast<std::size_t>(ui)) * img.channels;
+  if (img.channels >= 3) return Rgb8{img.data[base], img.data[base + 1], img.data[base + 2]};
+  return Rgb8{img.data[base], img.data[base], img.data[base]};
+}
+}  // namespace
+
+std::vector<Rgb8> detail::range_image_colors(const RangeImage3D& scan, const Pose3& T_map_robot,
+                                            const std::vector<Eigen::Vector3f>& p_map) {
+  std::vector<Rgb8> colors(p_map.size(), Rgb8{});
+  if (!scan.intensity || scan.intensity->empty()) return colors;
+  // Color of each point: its projection into the intensity camera.
+  const Pose3 T_map_intensity = T_map_robot + scan.T_robot_sensor + scan.T_sensor_intensity;
+  const Pose3 T_intensity_map = T_map_intensity.inverse();
+  for (std::size_t i = 0; i < p_map.size(); ++i) {
+    const Eigen::Vector3d pc = T_intensity_map.rotation() * p_map[i].cast<double>() + T_intensity_map.translation();
+    if (pc.z() > 0) {
+      const Eigen::Vector2d uv = scan.intensity_camera.project(pc);
+      colors[i] = sample_color(*scan.intensity, uv.x(), uv.y());
+    }
+  }
+  return colors;
+}
+
 bool PointMap::insert(const RangeImage3D& scan, const Pose3& T_map_robot) {
   if (insertion_options.is_planar_map) return false;
   std::vector<std::size_t> pix;
@@ -312,19 +331,8 @@ bool PointMap::insert(const RangeImage3D& scan, const Pose3& T_map_robot) {
   std::vector<Rgb8> colors;
   std::vector<float> inten;
   if ((cloud_.has_colors() || cloud_.has_intensity()) && scan.intensity && !scan.intensity->empty()) {
-    // Color of each point: its projection into the intensity camera.
-    const Pose3 T_map_intensity = T_map_robot + scan.T_robot_sensor + scan.T_sensor_intensity;
-    const Pose3 T_intensity_map = T_map_intensity.inverse();
-    for (const auto& p : pts) {
-      const Eigen::Vector3d pc = T_intensity_map.rotation() * p.cast<double>() + T_intensity_map.translation();
-      Rgb8 c{};
-      if (pc.z() > 0) {
-        const Eigen::Vector2d uv = scan.intensity_camera.project(pc);
-        c = sample_color(*scan.intensity, uv.x(), uv.y());
-      }
-      colors.push_back(c);
-      inten.push_back((c.r + c.g + c.b) / (3.0f * 255.0f));
-    }
+    colors = detail::range_image_colors(scan, T_map_robot, pts);
+    for (const Rgb8& c : colors) inten.push_back((c.r + c.g + c.b) / (3.0f * 255.0f));
   }
   append_scan_points(pts, colors.empty() ? nullptr : &colors, inten.empty() ? nullptr : &inten);
   return true;

@@ -12,6 +12,7 @@
 #include "rove/maps/beacon_map.h"
 #include "rove/maps/landmark_map.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
+#include "rove/maps/metric_map_octree.h"
 #include "rove/maps/metric_map_points.h"
 #include "rove/obs/beacon_ranges.h"
 #include "rove/obs/range_scan_2d.h"
@@ -70,9 +71,8 @@ std::vector<Declaration> find_declarations() {
         const auto n = ini.get<std::uint64_t>(sec, key);
         d.maps += n;
         const std::string stem = key.substr(0, key.size() - 6);
-        static const std::set<std::string> unsupported = {
-            "gasGrid", "octoMap", "colourOctoMap", "colorOctoMap", "wifiGrid", "reflectivityMap",
-            "dem_mrf"};
+        static const std::set<std::string> unsupported = {"gasGrid", "wifiGrid", "reflectivityMap",
+                                                          "dem_mrf"};
         if (n > 0 && unsupported.count(stem) && d.unsupported_count_key.empty()) {
           d.unsupported_count_key = key;
         }
@@ -95,7 +95,7 @@ TEST(MultiMetricMapConfig, EveryMrptConfigFileLoads) {
     SCOPED_TRACE(d.file.string() + " [" + d.section + "]");
     const IniFile ini = IniFile::load(d.file.string(), IniOptions{.strict = false});
     if (!d.unsupported_count_key.empty()) {
-      // Gas grids and octomaps: a clear error naming the count key.
+      // Gas grids: a clear error naming the count key.
       try {
         (void)MultiMetricMap::from_config(ini, d.section);
         ADD_FAILURE() << "expected ConfigError for " << d.unsupported_count_key;
@@ -117,14 +117,21 @@ TEST(MultiMetricMapConfig, EveryMrptConfigFileLoads) {
       if (e.map->kind() == "landmarksMap") continue;
       EXPECT_TRUE(e.map->empty()) << e.map->kind();
     }
+    if (d.file.filename() == "icp-slam_demo_with_octomap.ini") {
+      const auto* o = dynamic_cast<const OctreeMetricMap*>(mm.find("octoMap"));
+      ASSERT_NE(o, nullptr);
+      EXPECT_EQ(o->tree().resolution(), 0.15);
+      EXPECT_EQ(o->insert_options.max_range, -1.0);
+      EXPECT_EQ(o->tree().params().clamping_min, 0.1192);
+    }
     if (d.file.filename() == "ro-localization-demo.ini") {
       ASSERT_EQ(mm.size(), 1u);
       EXPECT_EQ(dynamic_cast<const LandmarkMap&>(*mm.entries()[0].map).landmarks().size(), 15u);
     }
     ++loaded;
   }
-  EXPECT_GE(loaded, 17u);
-  EXPECT_EQ(rejected, 3u);  // icp-gas-mapping, gas_mapping_2lasers_2enoses, octomap demo
+  EXPECT_GE(loaded, 18u);
+  EXPECT_EQ(rejected, 2u);  // icp-gas-mapping, gas_mapping_2lasers_2enoses
 }
 
 TEST(MultiMetricMapConfig, ReadsMrptOptionsIntoTheMaps) {

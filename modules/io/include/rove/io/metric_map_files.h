@@ -14,6 +14,10 @@
 ///  - height map: `<prefix>_mean.txt` (MRPT's format: one row per cy, one
 ///    column per cx, the cell's mean height) and `<prefix>_count.txt`
 ///    (points per cell, same layout);
+///  - octree (octoMap, colourOctoMap): `<prefix>.bt` (OctoMap's binary file,
+///    the tree as it is, as MRPT's `_binary.bt`), for the colour map also
+///    `<prefix>.ot` (OctoMap's full ColorOcTree file, with the colours), and
+///    `<prefix>_occupied.ply` (the centres of the occupied leaves, binary PLY);
 ///  - multi-metric map: map i to `<prefix>_<ii>_<kind>` as above.
 /// Every file is written atomically (rove/core/files.h).
 

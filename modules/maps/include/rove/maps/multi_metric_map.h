@@ -8,7 +8,7 @@
 ///  - `<name>_count = N` for each map kind, where <name> is any name MRPT
 ///    registers for it: the short alias (`occupancyGrid`, `pointsMap`,
 ///    `colourPointsMap`, `weightedPointsMap`, `beaconMap`, `landmarksMap`,
-///    `heightMap`, `dem`), the class name (`COccupancyGridMap2D`) or the
+///    `heightMap`, `dem`, `octoMap`, `colourOctoMap`), the class name (`COccupancyGridMap2D`) or the
 ///    qualified one (`mrpt::maps::COccupancyGridMap2D`). Each map i reads
 ///    sections `[S_<name>_<ii>_creationOpts]`, `_insertOpts`,
 ///    `_likelihoodOpts` (and `_renderOpts` / `_colorOpts` for point maps),
@@ -23,7 +23,7 @@
 ///    `enableInsertion_pointsMap`, `_landmarksMap`, `_gridMaps`,
 ///    `_gasGridMaps`, `_beaconMap`, `_wifiGridMaps`.
 ///  - Kinds rove does not implement (gas, wifi and reflectivity grids,
-///    octomaps, 3D occupancy grids, MRF height maps) are a ConfigError naming
+///    3D occupancy grids, MRF height maps) are a ConfigError naming
 ///    the `_count` key when their count is > 0.
 ///
 /// Strictness: a `*_count` key in [S] that names no map kind, and any key of

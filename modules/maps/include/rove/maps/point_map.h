@@ -166,6 +166,11 @@ namespace detail {
 /// each point's ray index (-1 for interpolated points).
 std::vector<Eigen::Vector3f> scan_points_mrpt(const RangeScan2D& scan, const Pose3& T_frame_robot,
                                               const PointMapInsertionOptions& o, std::vector<int>* ray_of);
+/// The colour of each point (map frame) of `scan` taken with the robot at
+/// T_map_robot: the pixel of the intensity image it projects to (black when
+/// behind the camera, outside the image, or without an intensity image).
+std::vector<Rgb8> range_image_colors(const RangeImage3D& scan, const Pose3& T_map_robot,
+                                     const std::vector<Eigen::Vector3f>& p_map);
 }  // namespace detail
 
 }  // namespace rove
