@@ -89,8 +89,8 @@ OctreeFileHeader parse_legacy(std::string_view b, const std::string& source) {
   h.resolution = read_le<double>(b, 4);
   h.size = read_le<std::uint32_t>(b, 12);
   h.data_offset = 16;
-  if (!(h.resolution > 0.0) || !std::isfinite(h.resolution)) {
-    fail(source, 4, "res", fmt::format("resolution {} is not > 0", h.resolution));
+  if (!octree_resolution_valid(h.resolution)) {
+    fail(source, 4, "res", fmt::format("resolution {} is not > 0 or out of range", h.resolution));
   }
   return h;
 }
@@ -155,6 +155,10 @@ class NodeReader {
         leaf.log_odds = codes[i] == 1 ? clamp_min_ : clamp_max_;
         push(leaf, depth + 1, offset);
       } else if (codes[i] == 3) {
+        // An inner node must have children (OctoMap never writes one
+        // without); its value is the maximum of theirs.
+        need(2, "node");
+        if (b_[pos_] == 0 && b_[pos_ + 1] == 0) fail(source_, pos_, "node", "an inner node (code 11) has no children");
         binary_node(depth + 1, std::numeric_limits<float>::quiet_NaN());
       }
     }
@@ -273,9 +277,10 @@ OctreeFileHeader parse_octree_header(std::string_view b, const std::string& sour
   h.data_offset = s.pos();
   if (h.id.empty()) fail(source, h.data_offset, "id", "the header has no tree type ('id')");
   if (h.id == "1") h.id = "OcTree";  // OctoMap's deprecated id
-  if (!has_res || !(h.resolution > 0.0) || !std::isfinite(h.resolution)) {
-    fail(source, h.data_offset, "res", has_res ? fmt::format("resolution {} is not > 0", h.resolution)
-                                                : std::string("the header has no resolution ('res')"));
+  if (!has_res || !octree_resolution_valid(h.resolution)) {
+    fail(source, h.data_offset, "res",
+         has_res ? fmt::format("resolution {} is not > 0 or out of range", h.resolution)
+                 : std::string("the header has no resolution ('res')"));
   }
   return h;
 }

@@ -132,6 +132,8 @@ TEST(OctreeFiles, MalformedFilesAreParseErrors) {
   expect_parse_error(head + "size 0\nres -0.1\ndata\n", "res");
   expect_parse_error(head + "size 0\nres nan\ndata\n", "res");
   expect_parse_error(head + "size 0\nres 0.1x\ndata\n", "res");
+  expect_parse_error(head + "size 0\nres 1e-320\ndata\n", "res");  // subnormal: its inverse overflows
+  expect_parse_error(head + "size 0\nres 1e305\ndata\n", "res");   // the tree's extent overflows
   expect_parse_error(head + "size 0\ndata\n", "res");
   expect_parse_error(head + "size -1\nres 0.1\ndata\n", "size");
   expect_parse_error(head + "size\n", "size");
@@ -141,6 +143,8 @@ TEST(OctreeFiles, MalformedFilesAreParseErrors) {
   expect_parse_error(head + "size 2\nres 0.1\ndata\n\x00\x00", "size");    // only 1 node
   expect_parse_error(head + "size 0\nres 0.1\ndata\nXY", "data");          // bytes after the tree
   expect_parse_error(head + "size 18446744073709551615\nres 0.1\ndata\n\x03\x00", "size");
+  // An inner node (code 11) whose record lists no child.
+  expect_parse_error(head + "size 2\nres 0.1\ndata\n" + std::string("\x03\x00\x00\x00", 4), "node");
   // A chain of inner nodes deeper than 16 levels.
   std::string deep = head + "size 20\nres 0.1\ndata\n";
   for (int i = 0; i < 18; ++i) deep += std::string("\x03\x00", 2);

@@ -18,6 +18,11 @@ using detail::kNoBlock;
 using detail::OctreeAccess;
 using detail::OctreeStore;
 
+bool octree_resolution_valid(double resolution) noexcept {
+  return std::isnormal(resolution) && resolution > 0.0 && std::isfinite(1.0 / resolution) &&
+         std::isfinite(resolution * 2.0 * kOctreeKeyOffset);
+}
+
 float octree_log_odds(double probability) noexcept {
   return static_cast<float>(std::log(probability / (1.0 - probability)));
 }
@@ -49,8 +54,10 @@ OccupancyOctreeParams OccupancyOctreeParams::from_config(const ConfigSection& s)
 
 OccupancyOctree::OccupancyOctree(double resolution, OccupancyOctreeParams params, OctreeChannels channels)
     : resolution_(resolution), inv_resolution_(1.0 / resolution), params_(params), channels_(channels) {
-  ROVE_CHECK_MSG(std::isfinite(resolution) && resolution > 0.0,
-                 "octree resolution must be finite and > 0, got {}", resolution);
+  ROVE_CHECK_MSG(octree_resolution_valid(resolution),
+                 "octree resolution must be finite and > 0 (and neither it, its inverse nor the tree's extent "
+                 "overflow), got {}",
+                 resolution);
   params_.check();
   hit_ = octree_log_odds(params_.prob_hit);
   miss_ = octree_log_odds(params_.prob_miss);

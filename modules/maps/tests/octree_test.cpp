@@ -21,7 +21,8 @@ using octree_test::expect_matches_oracle;
 using octree_test::expect_same_tree;
 
 TEST(Octree, RejectsBadResolutionAndParameters) {
-  for (double r : {0.0, -0.1, std::nan(""), std::numeric_limits<double>::infinity()}) {
+  for (double r : {0.0, -0.1, std::nan(""), std::numeric_limits<double>::infinity(),
+                   std::numeric_limits<double>::denorm_min(), 1e305}) {
     EXPECT_THROW(OccupancyOctree{r}, InvalidArgument) << r;
   }
   OccupancyOctreeParams p;

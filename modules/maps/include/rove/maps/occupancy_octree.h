@@ -229,8 +229,8 @@ struct OctreeNodeRecord {
 class OccupancyOctree {
  public:
   /// An empty tree of finest cells `resolution` meters wide. Throws
-  /// InvalidArgument unless resolution is finite and > 0, and params pass
-  /// their check.
+  /// InvalidArgument unless octree_resolution_valid(resolution) and params
+  /// pass their check.
   explicit OccupancyOctree(double resolution, OccupancyOctreeParams params = {},
                            OctreeChannels channels = OctreeChannels::None);
   ~OccupancyOctree();
@@ -402,6 +402,9 @@ class OccupancyOctree {
   std::unordered_map<OctreeKey, bool, OctreeKeyHash> changes_;  // key -> created
 };
 
+/// True when `resolution` (meters) can make a tree: a normal, finite number
+/// > 0 whose inverse and the tree's extent (2^16 · resolution) are finite.
+bool octree_resolution_valid(double resolution) noexcept;
 /// log(p / (1 − p)) rounded to float (OctoMap's logodds).
 float octree_log_odds(double probability) noexcept;
 /// 1 − 1 / (1 + exp(log_odds)) (OctoMap's probability).
