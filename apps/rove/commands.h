@@ -31,5 +31,8 @@ void add_align_command(CLI::App& app);
 /// `rove eval ate|rpe|relations`: trajectory evaluation against ground
 /// truth or relations.
 void add_eval_command(CLI::App& app);
+/// `rove octomap build INPUT... -o MAP.bt [--res R] [--poses TRAJ] [--json]`:
+/// a 3D occupancy octree (OctoMap's .bt/.ot) from point clouds.
+void add_octomap_command(CLI::App& app);
 
 }  // namespace rove::cli
