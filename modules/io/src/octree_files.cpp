@@ -287,13 +287,11 @@ OctreeFileHeader parse_octree_header(std::string_view b, const std::string& sour
 
 OccupancyOctree parse_octree(std::string_view b, const std::string& source, const OccupancyOctreeParams& params) {
   const OctreeFileHeader h = parse_octree_header(b, source);
-  OctreeChannels channels = OctreeChannels::None;
-  if (h.format == OctreeFileFormat::Full) {
-    if (h.id == "ColorOcTree") {
-      channels = OctreeChannels::Color;
-    } else if (h.id != "OcTree") {
-      fail(source, 0, "id", fmt::format("tree type '{}' is not supported (OcTree, ColorOcTree)", printable(h.id)));
-    }
+  // A ColorOcTree keeps its type also from a .bt (which stores no colours:
+  // its leaves are white), so that it writes back as it was read.
+  const OctreeChannels channels = h.id == "ColorOcTree" ? OctreeChannels::Color : OctreeChannels::None;
+  if (h.format == OctreeFileFormat::Full && h.id != "OcTree" && h.id != "ColorOcTree") {
+    fail(source, 0, "id", fmt::format("tree type '{}' is not supported (OcTree, ColorOcTree)", printable(h.id)));
   }
   // Every node takes at least 5 bytes of an .ot; a .bt record of 2 bytes
   // holds up to 8 children.
@@ -305,7 +303,8 @@ OccupancyOctree parse_octree(std::string_view b, const std::string& source, cons
   check_memory_budget(checked_bytes(h.size, sizeof(OctreeNodeRecord) + 16),
                       fmt::format("{}: octree of {} nodes", printable(source), h.size));
   OccupancyOctree tree(h.resolution, params, channels);
-  NodeReader reader(b, h, source, channels == OctreeChannels::Color, tree.clamp_min_log_odds(),
+  NodeReader reader(b, h, source, h.format == OctreeFileFormat::Full && channels == OctreeChannels::Color,
+                    tree.clamp_min_log_odds(),
                     tree.clamp_max_log_odds());
   const std::vector<OctreeNodeRecord> nodes = reader.read();
   tree.assign_preorder(nodes);

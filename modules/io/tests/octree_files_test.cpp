@@ -74,6 +74,18 @@ TEST(OctreeFiles, BinaryFilesKeepOccupancyAndStructure) {
   EXPECT_EQ(octree_binary_bytes(v, OctreeBinaryContent::MaxLikelihood), ml);
 }
 
+// Found by rove_octree_fuzz: a ColorOcTree's .bt read back as a plain tree
+// and wrote back with another id.
+TEST(OctreeFiles, ColorTreeBinaryFileKeepsItsType) {
+  const OccupancyOctree t = random_tree(OctreeChannels::Color, 3);
+  const std::string bytes = octree_binary_bytes(t);
+  ASSERT_NE(bytes.find("id ColorOcTree\n"), std::string::npos);
+  const OccupancyOctree u = parse_octree(bytes, "<test>");
+  EXPECT_EQ(u.channels(), OctreeChannels::Color);
+  EXPECT_EQ(octree_binary_bytes(u), bytes);
+  u.for_each_leaf([&](const OctreeLeaf& l) { EXPECT_EQ(u.color_at(l.key), (Rgb8{255, 255, 255})); });
+}
+
 TEST(OctreeFiles, HeaderIsOctoMaps) {
   OccupancyOctree t(0.123456789);
   EXPECT_EQ(octree_binary_bytes(t),

@@ -60,7 +60,9 @@ struct OctreeFileHeader {
 OctreeFileHeader parse_octree_header(std::string_view bytes, const std::string& source);
 
 /// Parses a `.bt` or `.ot` file held in `bytes` (told apart by the first
-/// line). A ColorOcTree `.ot` gives a tree with the Color channel.
+/// line). A ColorOcTree file gives a tree with the Color channel (from a
+/// `.bt`, which stores no colours, every node white), so that it writes
+/// back as it was read.
 OccupancyOctree parse_octree(std::string_view bytes, const std::string& source,
                              const OccupancyOctreeParams& params = {});
 
