@@ -38,7 +38,7 @@ inline std::vector<Segment> room_segments() {
   };
   box(0, 0, 12, 8);            // outer walls
   box(3, 2, 4, 5);             // a pillar
-  s.push_back({{8, 0}, {8, 3}});  // a wall stub from the south wall
+  s.push_back({{8, 0}, {8, 3}});  // a short wall out of the south wall
   box(9.5, 5.5, 10.5, 6.5);    // a small box
   box(2.0, 7.4, 2.6, 8.0);     // a cabinet against the north wall
   s.push_back({{10, 0}, {12, 2}});  // the south-east corner cut off
