@@ -363,7 +363,7 @@ void BM_rove_ndt(benchmark::State& st) {
   for (auto _ : st) {
     const rove::NdtGrid3D grid(std::span<const Eigen::Vector3f>(d.ndt_target.points()));
     rove::NdtOptions o;
-    o.convergence = rove::NdtConvergence::Pcl;  // PCL's settings and rule
+    o.compat = rove::NdtCompat::Pcl;  // PCL's parametrization and rule
     o.transformation_epsilon = 0.01;
     o.step_size = 0.1;
     o.max_iterations = 35;

@@ -6,11 +6,16 @@
 # "Map building executed in" times; rove: mapping_seconds of its summary),
 # and the agreement of the two paths (position RMSE, final-pose difference).
 # MRPT runs headless: SHOW_PROGRESS_3D_REAL_TIME=0, SAVE_3D_SCENE=0.
-# Needs mrpt-apps. Usage: bench/run_icp_slam_vs_mrpt.sh [runs]
+# rove runs with --arithmetic mrpt (MRPT's run to the bit, the same work) unless
+# ARITHMETIC=double is set (rove's default arithmetic; its path then differs
+# from MRPT's by rounding).
+# Needs mrpt-apps. Usage: [ARITHMETIC=double] bench/run_icp_slam_vs_mrpt.sh [runs]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 runs=${1:-5}
+arithmetic=${ARITHMETIC:-mrpt}
+echo "rove icp-slam --arithmetic $arithmetic"
 command -v icp-slam >/dev/null || { echo "icp-slam (mrpt-apps) is not installed" >&2; exit 1; }
 rawlog="$root/data/mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog"
 work=build/bench/icp_slam
@@ -34,7 +39,7 @@ for variant in classic LM; do
     mrpt_loop=$(grep -o 'Map building executed in [0-9.]*ms' "$work/mrpt_$variant.log" | awk '{s += $5} END {printf "%.4f", s / 1000}')
     mrpt_wall=$(grep 'Elapsed (wall clock)' "$work/mrpt_$variant.time" | awk '{print $NF}' | awk -F: '{print $(NF-1)*60 + $NF}')
     mrpt_rss=$(field "$work/mrpt_$variant.time" 'Maximum resident')
-    /usr/bin/time -v "$rove" icp-slam --json --no-progress "data/mrpt/icp-slam_demo_$variant.ini" "$rawlog" \
+    /usr/bin/time -v "$rove" icp-slam --json --no-progress --arithmetic "$arithmetic" "data/mrpt/icp-slam_demo_$variant.ini" "$rawlog" \
       -o "$work/rove_$variant" > "$work/rove_$variant.json" 2> "$work/rove_$variant.time"
     rove_loop=$(grep '"mapping_seconds"' "$work/rove_$variant.json" | tr -dc '0-9.')
     rove_wall=$(grep 'Elapsed (wall clock)' "$work/rove_$variant.time" | awk '{print $NF}' | awk -F: '{print $(NF-1)*60 + $NF}')

@@ -41,10 +41,6 @@ endfunction()
 function(rove_target_defaults target)
   target_compile_features(${target} PUBLIC cxx_std_20)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
-  # No fused multiply-adds the source does not spell out, whatever -march a
-  # user adds: results stay the same on every x86-64 (and MRPT's float
-  # arithmetic, which rove reproduces bit for bit, stays reproducible).
-  target_compile_options(${target} PRIVATE -ffp-contract=off)
   if(ROVE_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
@@ -55,8 +51,27 @@ function(rove_target_defaults target)
   endif()
 endfunction()
 
+# rove_exact_float_sources(<source>...): the sources that reproduce a peer's
+# floating-point arithmetic bit for bit (Arithmetic::Mrpt, NdtCompat::Pcl;
+# docs/conventions.md, "MRPT and PCL compatibility") are compiled with
+# -ffp-contract=off: no fused multiply-add the source does not spell out,
+# whatever -march a user adds, so that their sums round as MRPT's and PCL's
+# builds round them. Every other source lets the compiler fuse (the default
+# paths need no bit-exact agreement with anything). rove_add_module applies
+# it to the files named *_mrpt.cpp / *_pcl.cpp (library) and
+# *_mrpt_test.cpp / *_pcl_test.cpp (their parity tests), and to the shared
+# sources a module names with EXACT_FLOAT (code both paths run whose float
+# results the strategy needs to the bit, such as the float KD-tree search).
+function(rove_exact_float_sources)
+  foreach(src IN LISTS ARGN)
+    if(src MATCHES "_(mrpt|pcl)(_test)?\\.cpp$")
+      set_source_files_properties(${src} PROPERTIES COMPILE_OPTIONS -ffp-contract=off)
+    endif()
+  endforeach()
+endfunction()
+
 function(rove_add_module name)
-  cmake_parse_arguments(ARG "" "" "DEPS;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "DEPS;PUBLIC_LIBS;PRIVATE_LIBS;EXACT_FLOAT" ${ARGN})
   list(FIND ROVE_MODULE_ORDER ${name} self_index)
   if(self_index EQUAL -1)
     message(FATAL_ERROR "rove module '${name}' is not listed in ROVE_MODULE_ORDER")
@@ -73,6 +88,11 @@ function(rove_add_module name)
   set(dir ${CMAKE_CURRENT_SOURCE_DIR})
   file(GLOB_RECURSE srcs CONFIGURE_DEPENDS ${dir}/src/*.cpp)
   add_library(rove_${name} ${srcs})
+  rove_exact_float_sources(${srcs})
+  foreach(src IN LISTS ARG_EXACT_FLOAT)
+    set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/${src} PROPERTIES
+      COMPILE_OPTIONS -ffp-contract=off)
+  endforeach()
   add_library(rove::${name} ALIAS rove_${name})
   set_target_properties(rove_${name} PROPERTIES EXPORT_NAME ${name} POSITION_INDEPENDENT_CODE ON)
   target_include_directories(rove_${name} PUBLIC
@@ -90,6 +110,7 @@ function(rove_add_module name)
     file(GLOB_RECURSE test_srcs CONFIGURE_DEPENDS ${dir}/tests/*.cpp)
     if(test_srcs)
       add_executable(rove_${name}_tests ${test_srcs})
+      rove_exact_float_sources(${test_srcs})
       target_link_libraries(rove_${name}_tests PRIVATE rove::${name} GTest::gtest GTest::gtest_main)
       target_include_directories(rove_${name}_tests PRIVATE ${dir}/tests
         ${PROJECT_SOURCE_DIR}/modules/core/tests/support)
@@ -99,14 +120,23 @@ function(rove_add_module name)
       gtest_discover_tests(rove_${name}_tests DISCOVERY_MODE PRE_TEST
         WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTIES LABELS ${name})
       # A hook ctest runs after the discovery above: the suites that read the
-      # shared datasets (name ending in "Datasets") get the label `datasets`.
+      # shared datasets (name ending in "Datasets") get the label `datasets`;
+      # the parity tests against MRPT's or PCL's own outputs, run through
+      # the named compatibility strategy (suite name containing "MrptCompat"
+      # or "PclCompat"), get the label `mrpt_compat`. Correctness tests
+      # (ground truth, properties, oracles) carry neither.
       set(hook ${CMAKE_CURRENT_BINARY_DIR}/rove_${name}_tests_datasets.cmake)
       file(WRITE ${hook}
         "foreach(t IN LISTS rove_${name}_tests_TESTS)\n"
-        "  if(t MATCHES \"Datasets\\\\.\")\n"
-        "    set_tests_properties(\"\${t}\" PROPERTIES LABELS \"${name};datasets\"\n"
-        "      DISABLED ${ROVE_DATASETS_DISABLED})\n"
+        "  set(labels ${name})\n"
+        "  if(t MATCHES \"(Mrpt|Pcl)Compat\")\n"
+        "    list(APPEND labels mrpt_compat)\n"
         "  endif()\n"
+        "  if(t MATCHES \"Datasets\\\\.\")\n"
+        "    list(APPEND labels datasets)\n"
+        "    set_tests_properties(\"\${t}\" PROPERTIES DISABLED ${ROVE_DATASETS_DISABLED})\n"
+        "  endif()\n"
+        "  set_tests_properties(\"\${t}\" PROPERTIES LABELS \"\${labels}\")\n"
         "endforeach()\n")
       set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${hook})
     endif()

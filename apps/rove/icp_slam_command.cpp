@@ -46,6 +46,7 @@ struct IcpSlamCliOptions {
   bool progress = true;
   std::optional<std::uint64_t> max_steps;
   std::optional<float> max_range;
+  std::string arithmetic;  // empty: the config's [ICP] arithmetic (default double)
 };
 
 // The rawlog: the command line's, else the config's rawlog_file as given,
@@ -94,42 +95,173 @@ OutputPlan plan_outputs(const fs::path& dir, const MultiMetricMap& map) {
   return p;
 }
 
-void run(IcpSlamCliOptions o) {
-  Stopwatch total;
-  const bool demo = o.config.empty();
-  if (demo) {
-    const fs::path data = data_dir();
-    o.config = (data / kDemoConfig).string();
-    if (o.rawlog.empty()) o.rawlog = (data / kDemoRawlog).string();
-  }
-  check_regular_input(o.config, "icp-slam config file");
-  const IniFile ini = IniFile::load(o.config);
-  IcpSlamConfig cfg = load_icp_slam_config(ini);
-  const std::string rawlog = resolve_rawlog(o, cfg);
-  check_regular_input(rawlog, "rawlog");
-
-  const fs::path dir(o.out_dir);
-  const OutputPlan plan = plan_outputs(dir, cfg.map);
-  if (fs::exists(dir) && !fs::is_directory(dir)) {
-    throw IoError(o.out_dir, "the output folder (-o) exists and is not a folder");
-  }
-  check_outputs_distinct({fs::path(o.config), fs::path(rawlog)}, plan.files);
-
-  IcpSlam slam(cfg.options, std::move(cfg.map));
-  IcpSlamRunOptions ro;
-  ro.rawlog_offset = cfg.rawlog_offset;
-  ro.max_steps = o.max_steps;
+// What the text report and summary.json say about a finished run.
+struct RunFacts {
+  std::string config, rawlog;
+  RawlogFormat format = RawlogFormat::kRove;
+  float max_range = 0;
   std::string max_range_source = "default";
-  float max_range = ro.reader.carmen.log.flaser_max_range;
-  if (cfg.carmen_max_range) {
-    max_range = *cfg.carmen_max_range;
-    max_range_source = "[CARMEN] maxRange";
+  Arithmetic arithmetic = Arithmetic::Double;
+  std::string arithmetic_source = "default";
+  std::size_t steps = 0, scans = 0;
+  double mapping_seconds = 0, read_seconds = 0, max_step_seconds = 0;
+  std::size_t grids = 0, points = 0;
+  std::string picture;
+};
+
+// The maps into dir: each grid as a ROS map pair, each point map as PLY and
+// a picture with the path.
+void write_maps(const fs::path& dir, const IcpSlam& slam, const std::vector<Pose2>& path,
+                std::vector<std::string>& files, RunFacts& facts) {
+  std::size_t clouds = 0;
+  for (const auto& e : slam.map().entries()) {
+    if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
+      const std::string stem = facts.grids == 0 ? "map" : fmt::format("map_{:02}", facts.grids);
+      GridImageOptions scale;  // the whole probability, as MRPT's bitmap
+      scale.mode = RosMapMode::kScale;
+      const RosMapFiles gf = save_ros_map((dir / stem).string(), g->grid(), scale);
+      files.push_back(gf.image);
+      files.push_back(gf.yaml);
+      if (facts.picture.empty()) facts.picture = gf.image;
+      ++facts.grids;
+    } else if (const auto* p = dynamic_cast<const PointsMetricMap*>(e.map.get())) {
+      const std::string stem = clouds == 0 ? "points" : fmt::format("points_{:02}", clouds);
+      PlyWriteOptions ascii;
+      ascii.format = PlyFormat::kAscii;
+      write_ply((dir / (stem + ".ply")).string(), p->points().cloud(), ascii);
+      files.push_back((dir / (stem + ".ply")).string());
+      render_points_png((dir / (stem + ".png")).string(), p->points().cloud(), path);
+      files.push_back((dir / (stem + ".png")).string());
+      if (clouds == 0) facts.points = p->points().cloud().size();
+      if (facts.picture.empty() && facts.grids == 0) facts.picture = (dir / (stem + ".png")).string();
+      ++clouds;
+    }
   }
-  if (o.max_range) {
-    max_range = *o.max_range;
-    max_range_source = "--max-range";
+}
+
+// The paths and the keyframes (TUM trajectories, MRPT simplemap) into dir.
+void write_trajectories(const fs::path& dir, const IcpSlam& slam, const IcpSlamRunResult& res,
+                        std::vector<std::string>& files, std::vector<Issue>& issues) {
+  std::vector<TimedPose2> est, odo;
+  for (const auto& s : res.steps) {
+    est.push_back({s.time, s.pose});
+    odo.push_back({s.time, s.odometry});
   }
-  ro.reader.carmen.log.flaser_max_range = max_range;
+  write_tum_trajectory((dir / "path.tum").string(), est);
+  files.push_back((dir / "path.tum").string());
+  write_tum_trajectory((dir / "odometry.tum").string(), odo);
+  files.push_back((dir / "odometry.tum").string());
+  std::vector<TimedPose2> kf_poses;
+  std::vector<SimpleMapEntry2D> kf;
+  for (const auto& k : slam.keyframes()) {
+    kf_poses.push_back({k.observation->timestamp, k.pose});
+    kf.push_back({k.pose, Eigen::Matrix3d::Zero(), k.observation.get()});
+  }
+  write_tum_trajectory((dir / "keyframes.tum").string(), kf_poses);
+  files.push_back((dir / "keyframes.tum").string());
+  const SimpleMapWriteReport smr = write_mrpt_simplemap((dir / "map.simplemap").string(), kf);
+  files.push_back((dir / "map.simplemap").string());
+  if (smr.skipped) {
+    issues.push_back({"simplemap-incomplete",
+                      fmt::format("{} keyframes not written to map.simplemap (not 2D scans)",
+                                  smr.skipped)});
+  }
+}
+
+double mean_step_seconds(const RunFacts& f) {
+  return f.steps ? f.mapping_seconds / static_cast<double>(f.steps) : 0.0;
+}
+
+double iterations_per_icp(const IcpSlamStats& st) {
+  return st.icp_runs ? static_cast<double>(st.icp_iterations) / static_cast<double>(st.icp_runs)
+                     : 0.0;
+}
+
+std::string summary_json(const RunFacts& f, const IcpSlam& slam, const std::vector<std::string>& files,
+                         const std::vector<Issue>& issues, double total_seconds) {
+  const IcpSlamStats& st = slam.stats();
+  const Pose2 final_pose = slam.pose();
+  JsonWriter j;
+  j.begin_object();
+  j.key("config").value(f.config);
+  j.key("rawlog").value(f.rawlog);
+  j.key("format").value(to_string(f.format));
+  j.key("arithmetic").value(std::string(to_string(f.arithmetic)));
+  j.key("arithmetic_source").value(f.arithmetic_source);
+  if (f.format == RawlogFormat::kCarmen) {
+    j.key("carmen_max_range").value(static_cast<double>(f.max_range));
+    j.key("carmen_max_range_source").value(f.max_range_source);
+  }
+  j.key("steps").value(f.steps);
+  j.key("observations").value(st.observations);
+  j.key("scans").value(f.scans);
+  j.key("odometry_readings").value(st.odometry);
+  j.key("icp_runs").value(st.icp_runs);
+  j.key("icp_accepted").value(st.icp_accepted);
+  j.key("icp_rejected_goodness").value(st.icp_rejected_goodness);
+  j.key("icp_rejected_diverged").value(st.icp_rejected_invalid);
+  j.key("icp_goodness_max").value(st.icp_goodness_max);
+  j.key("min_icp_goodness_to_accept").value(slam.options().min_icp_goodness_to_accept);
+  j.key("icp_iterations").value(st.icp_iterations);
+  j.key("icp_iterations_per_run").value(iterations_per_icp(st));
+  j.key("keyframes").value(st.insertions);
+  j.key("map_points").value(f.points);
+  j.key("grid_maps").value(f.grids);
+  j.key("final_pose").begin_object();
+  j.key("x").value(final_pose.x()).key("y").value(final_pose.y());
+  j.key("phi").value(final_pose.phi()).end_object();
+  j.key("mapping_seconds").value(f.mapping_seconds);
+  j.key("icp_seconds").value(st.icp_seconds);
+  j.key("insert_seconds").value(st.insert_seconds);
+  j.key("read_seconds").value(f.read_seconds);
+  j.key("seconds_per_step_mean").value(mean_step_seconds(f));
+  j.key("seconds_per_step_max").value(f.max_step_seconds);
+  j.key("total_seconds").value(total_seconds);
+  j.key("files").value(files);
+  write_issues(j, issues);
+  j.end_object();
+  return j.str() + "\n";
+}
+
+void print_report(const RunFacts& f, const IcpSlam& slam, const std::string& out_dir,
+                  const std::vector<std::string>& files, const std::vector<Issue>& issues,
+                  double total_seconds) {
+  const IcpSlamStats& st = slam.stats();
+  fmt::print("icp-slam: {} steps from {} ({})\n", f.steps, printable(f.rawlog), to_string(f.format));
+  fmt::print("  config: {}\n", printable(f.config));
+  fmt::print("  arithmetic: {} ({}; {})\n", to_string(f.arithmetic), f.arithmetic_source,
+             f.arithmetic == Arithmetic::Mrpt ? "MRPT 2.5.8's icp-slam reproduced to the bit"
+                                              : "rove's double precision");
+  if (f.format == RawlogFormat::kCarmen) {
+    fmt::print("  CARMEN maximum range: {:g} m ({}; PARAM lines of the log take precedence)\n",
+               f.max_range, f.max_range_source);
+  }
+  fmt::print("  ICP: {} runs, {} accepted, {} rejected (goodness <= {:g}), {} diverged; "
+             "{} iterations ({:.1f} per run)\n",
+             st.icp_runs, st.icp_accepted, st.icp_rejected_goodness,
+             slam.options().min_icp_goodness_to_accept, st.icp_rejected_invalid,
+             st.icp_iterations, iterations_per_icp(st));
+  fmt::print("  map: {} keyframes, {} points{}\n", st.insertions, f.points,
+             f.grids ? fmt::format(", {} grid map(s)", f.grids) : std::string());
+  fmt::print("  final pose: {}\n", slam.pose().as_string());
+  fmt::print("  time: mapping {:.3f} s ({:.3f} ms/step, max {:.3f} ms), reading {:.3f} s, "
+             "total {:.3f} s\n",
+             f.mapping_seconds, 1e3 * mean_step_seconds(f), 1e3 * f.max_step_seconds,
+             f.read_seconds, total_seconds);
+  fmt::print("  wrote {} files to {}/ (map picture: {})\n", files.size(), printable(out_dir),
+             printable(f.picture));
+  if (issues.empty()) {
+    fmt::print("  issues: none\n");
+  } else {
+    fmt::print("  issues:\n");
+    for (const auto& i : issues) fmt::print("    {}: {}\n", i.code, i.message);
+  }
+}
+
+// Runs ICP-SLAM over the rawlog with a progress line; Ctrl-C says what was
+// (not) written and is passed on.
+IcpSlamRunResult run_with_progress(IcpSlam& slam, const std::string& rawlog,
+                                   IcpSlamRunOptions ro, const IcpSlamCliOptions& o) {
   std::optional<Progress> progress;
   if (o.progress) progress.emplace(std::nullopt, "icp-slam " + printable(rawlog), std::cerr);
   std::uint64_t steps_done = 0;
@@ -137,16 +269,67 @@ void run(IcpSlamCliOptions o) {
     ++steps_done;
     if (progress) progress->advance();
   };
-  IcpSlamRunResult res;
   try {
-    res = run_icp_slam(slam, rawlog, ro);
+    IcpSlamRunResult res = run_icp_slam(slam, rawlog, ro);
+    if (progress) progress->finish();
+    return res;
   } catch (const Interrupted&) {
     if (progress) progress->finish();
     fmt::print(stderr, "rove: interrupted after {} steps; nothing written to {}\n", steps_done,
                printable(o.out_dir));
     throw;
   }
-  if (progress) progress->finish();
+}
+
+void run(IcpSlamCliOptions o) {
+  Stopwatch total;
+  if (o.config.empty()) {  // the demo
+    const fs::path data = data_dir();
+    o.config = (data / kDemoConfig).string();
+    if (o.rawlog.empty()) o.rawlog = (data / kDemoRawlog).string();
+  }
+  check_regular_input(o.config, "icp-slam config file");
+  const IniFile ini = IniFile::load(o.config);
+  IcpSlamConfig cfg = load_icp_slam_config(ini);
+  RunFacts facts;
+  facts.config = o.config;
+  if (ini.has("ICP", "arithmetic")) facts.arithmetic_source = "[ICP] arithmetic";
+  if (!o.arithmetic.empty()) {
+    cfg.options.icp.arithmetic = o.arithmetic == "mrpt" ? Arithmetic::Mrpt : Arithmetic::Double;
+    facts.arithmetic_source = "--arithmetic";
+  }
+  facts.arithmetic = cfg.options.icp.arithmetic;
+  facts.rawlog = resolve_rawlog(o, cfg);
+  check_regular_input(facts.rawlog, "rawlog");
+
+  const fs::path dir(o.out_dir);
+  const OutputPlan plan = plan_outputs(dir, cfg.map);
+  if (fs::exists(dir) && !fs::is_directory(dir)) {
+    throw IoError(o.out_dir, "the output folder (-o) exists and is not a folder");
+  }
+  check_outputs_distinct({fs::path(o.config), fs::path(facts.rawlog)}, plan.files);
+
+  IcpSlam slam(cfg.options, std::move(cfg.map));
+  IcpSlamRunOptions ro;
+  ro.rawlog_offset = cfg.rawlog_offset;
+  ro.max_steps = o.max_steps;
+  facts.max_range = ro.reader.carmen.log.flaser_max_range;
+  if (cfg.carmen_max_range) {
+    facts.max_range = *cfg.carmen_max_range;
+    facts.max_range_source = "[CARMEN] maxRange";
+  }
+  if (o.max_range) {
+    facts.max_range = *o.max_range;
+    facts.max_range_source = "--max-range";
+  }
+  ro.reader.carmen.log.flaser_max_range = facts.max_range;
+  const IcpSlamRunResult res = run_with_progress(slam, facts.rawlog, ro, o);
+  facts.format = res.format;
+  facts.steps = res.steps.size();
+  facts.scans = res.scans;
+  facts.mapping_seconds = res.mapping_seconds;
+  facts.read_seconds = res.read_seconds;
+  for (const auto& s : res.steps) facts.max_step_seconds = std::max(facts.max_step_seconds, s.seconds);
 
   std::vector<Issue> issues;
   for (const auto& i : res.issues) issues.push_back({i.code, i.message});
@@ -156,142 +339,19 @@ void run(IcpSlamCliOptions o) {
 
   // Outputs, each written under a temporary name and renamed when complete.
   std::vector<std::string> files;
-  std::vector<TimedPose2> est, odo;
   std::vector<Pose2> path;
-  for (const auto& s : res.steps) {
-    est.push_back({s.time, s.pose});
-    odo.push_back({s.time, s.odometry});
-    path.push_back(s.pose);
-  }
+  for (const auto& s : res.steps) path.push_back(s.pose);
   try {
-    write_tum_trajectory((dir / "path.tum").string(), est);
-    files.push_back((dir / "path.tum").string());
-    write_tum_trajectory((dir / "odometry.tum").string(), odo);
-    files.push_back((dir / "odometry.tum").string());
-    std::vector<TimedPose2> kf_poses;
-    std::vector<SimpleMapEntry2D> kf;
-    for (const auto& k : slam.keyframes()) {
-      kf_poses.push_back({k.observation->timestamp, k.pose});
-      kf.push_back({k.pose, Eigen::Matrix3d::Zero(), k.observation.get()});
-    }
-    write_tum_trajectory((dir / "keyframes.tum").string(), kf_poses);
-    files.push_back((dir / "keyframes.tum").string());
-    const SimpleMapWriteReport smr = write_mrpt_simplemap((dir / "map.simplemap").string(), kf);
-    files.push_back((dir / "map.simplemap").string());
-    if (smr.skipped) {
-      issues.push_back({"simplemap-incomplete",
-                        fmt::format("{} keyframes not written to map.simplemap (not 2D scans)",
-                                    smr.skipped)});
-    }
-
-    std::size_t grids = 0, clouds = 0, points = 0;
-    std::string picture;
-    for (const auto& e : slam.map().entries()) {
-      if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
-        const std::string stem = grids == 0 ? "map" : fmt::format("map_{:02}", grids);
-        GridImageOptions scale;  // the whole probability, as MRPT's bitmap
-        scale.mode = RosMapMode::kScale;
-        const RosMapFiles gf = save_ros_map((dir / stem).string(), g->grid(), scale);
-        files.push_back(gf.image);
-        files.push_back(gf.yaml);
-        if (picture.empty()) picture = gf.image;
-        ++grids;
-      } else if (const auto* p = dynamic_cast<const PointsMetricMap*>(e.map.get())) {
-        const std::string stem = clouds == 0 ? "points" : fmt::format("points_{:02}", clouds);
-        PlyWriteOptions ascii;
-        ascii.format = PlyFormat::kAscii;
-        write_ply((dir / (stem + ".ply")).string(), p->points().cloud(), ascii);
-        files.push_back((dir / (stem + ".ply")).string());
-        render_points_png((dir / (stem + ".png")).string(), p->points().cloud(), path);
-        files.push_back((dir / (stem + ".png")).string());
-        if (clouds == 0) points = p->points().cloud().size();
-        if (picture.empty() && grids == 0) picture = (dir / (stem + ".png")).string();
-        ++clouds;
-      }
-    }
-
-    const IcpSlamStats& st = slam.stats();
-    const std::size_t n = res.steps.size();
-    double max_step = 0.0;
-    for (const auto& s : res.steps) max_step = std::max(max_step, s.seconds);
-    const double mean_step = n ? res.mapping_seconds / static_cast<double>(n) : 0.0;
-    const Pose2 final_pose = slam.pose();
-    const double iters_per_icp =
-        st.icp_runs ? static_cast<double>(st.icp_iterations) / static_cast<double>(st.icp_runs)
-                    : 0.0;
+    write_trajectories(dir, slam, res, files, issues);
+    write_maps(dir, slam, path, files, facts);
     const std::string summary_path = (dir / "summary.json").string();
     files.push_back(summary_path);
-
-    JsonWriter j;
-    j.begin_object();
-    j.key("config").value(o.config);
-    j.key("rawlog").value(rawlog);
-    j.key("format").value(to_string(res.format));
-    if (res.format == RawlogFormat::kCarmen) {
-      j.key("carmen_max_range").value(static_cast<double>(max_range));
-      j.key("carmen_max_range_source").value(max_range_source);
-    }
-    j.key("steps").value(n);
-    j.key("observations").value(st.observations);
-    j.key("scans").value(res.scans);
-    j.key("odometry_readings").value(st.odometry);
-    j.key("icp_runs").value(st.icp_runs);
-    j.key("icp_accepted").value(st.icp_accepted);
-    j.key("icp_rejected_goodness").value(st.icp_rejected_goodness);
-    j.key("icp_rejected_diverged").value(st.icp_rejected_invalid);
-    j.key("icp_goodness_max").value(st.icp_goodness_max);
-    j.key("min_icp_goodness_to_accept").value(slam.options().min_icp_goodness_to_accept);
-    j.key("icp_iterations").value(st.icp_iterations);
-    j.key("icp_iterations_per_run").value(iters_per_icp);
-    j.key("keyframes").value(st.insertions);
-    j.key("map_points").value(points);
-    j.key("grid_maps").value(grids);
-    j.key("final_pose").begin_object();
-    j.key("x").value(final_pose.x()).key("y").value(final_pose.y());
-    j.key("phi").value(final_pose.phi()).end_object();
-    j.key("mapping_seconds").value(res.mapping_seconds);
-    j.key("icp_seconds").value(st.icp_seconds);
-    j.key("insert_seconds").value(st.insert_seconds);
-    j.key("read_seconds").value(res.read_seconds);
-    j.key("seconds_per_step_mean").value(mean_step);
-    j.key("seconds_per_step_max").value(max_step);
-    j.key("total_seconds").value(total.elapsed());
-    j.key("files").value(files);
-    write_issues(j, issues);
-    j.end_object();
-    const std::string summary = j.str() + "\n";
+    const std::string summary = summary_json(facts, slam, files, issues, total.elapsed());
     write_text_file_atomically(summary_path, summary);
-
     if (o.json) {
       fmt::print("{}", summary);
     } else {
-      fmt::print("icp-slam: {} steps from {} ({})\n", n, printable(rawlog), to_string(res.format));
-      fmt::print("  config: {}\n", printable(o.config));
-      if (res.format == RawlogFormat::kCarmen) {
-        fmt::print("  CARMEN maximum range: {:g} m ({}; PARAM lines of the log take "
-                   "precedence)\n",
-                   max_range, max_range_source);
-      }
-      fmt::print("  ICP: {} runs, {} accepted, {} rejected (goodness <= {:g}), {} diverged; "
-                 "{} iterations ({:.1f} per run)\n",
-                 st.icp_runs, st.icp_accepted, st.icp_rejected_goodness,
-                 slam.options().min_icp_goodness_to_accept, st.icp_rejected_invalid,
-                 st.icp_iterations, iters_per_icp);
-      fmt::print("  map: {} keyframes, {} points{}\n", st.insertions, points,
-                 grids ? fmt::format(", {} grid map(s)", grids) : std::string());
-      fmt::print("  final pose: {}\n", final_pose.as_string());
-      fmt::print("  time: mapping {:.3f} s ({:.3f} ms/step, max {:.3f} ms), reading {:.3f} s, "
-                 "total {:.3f} s\n",
-                 res.mapping_seconds, 1e3 * mean_step, 1e3 * max_step, res.read_seconds,
-                 total.elapsed());
-      fmt::print("  wrote {} files to {}/ (map picture: {})\n", files.size(), printable(o.out_dir),
-                 printable(picture));
-      if (issues.empty()) {
-        fmt::print("  issues: none\n");
-      } else {
-        fmt::print("  issues:\n");
-        for (const auto& i : issues) fmt::print("    {}: {}\n", i.code, i.message);
-      }
+      print_report(facts, slam, o.out_dir, files, issues, total.elapsed());
     }
   } catch (const Interrupted&) {
     fmt::print(stderr, "rove: interrupted while writing; complete files: {}\n",
@@ -320,6 +380,11 @@ void add_icp_slam_command(CLI::App& app) {
                   "PARAM line stating it; readings at or above it are \"no return\" (default: "
                   "the config's [CARMEN] maxRange, else 81)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--arithmetic", o->arithmetic,
+                  "double (rove's double precision) or mrpt (MRPT 2.5.8's arithmetic to the bit: "
+                  "reproduces MRPT's icp-slam path and map exactly, given MRPT's config); "
+                  "default: the config's [ICP] arithmetic, else double")
+      ->check(CLI::IsMember({"double", "mrpt"}));
   cmd->callback([o] { run(*o); });
 }
 

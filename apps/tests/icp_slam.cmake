@@ -13,6 +13,21 @@ add_test(NAME cli.icp_slam_json
     -o ${CMAKE_CURRENT_BINARY_DIR}/icp_slam_lm --max-steps 40)
 set_tests_properties(cli.icp_slam_json PROPERTIES LABELS cli
   PASS_REGULAR_EXPRESSION "\"steps\": 40,.*\"icp_runs\": [1-9][0-9]*,.*\"files\": \\[")
+# The arithmetic is rove's double unless chosen, and the report says which:
+# --arithmetic mrpt reproduces MRPT's icp-slam to the bit.
+add_test(NAME cli.icp_slam_arithmetic_default
+  COMMAND rove icp-slam --no-progress --max-steps 30 -o ${CMAKE_CURRENT_BINARY_DIR}/icp_slam_double)
+set_tests_properties(cli.icp_slam_arithmetic_default PROPERTIES LABELS cli
+  PASS_REGULAR_EXPRESSION "arithmetic: double \\(default; rove's double precision\\)")
+add_test(NAME cli.icp_slam_arithmetic_mrpt
+  COMMAND rove icp-slam --json --no-progress --max-steps 30 --arithmetic mrpt
+    -o ${CMAKE_CURRENT_BINARY_DIR}/icp_slam_mrpt)
+set_tests_properties(cli.icp_slam_arithmetic_mrpt PROPERTIES LABELS cli
+  PASS_REGULAR_EXPRESSION "\"arithmetic\": \"mrpt\",.*\"arithmetic_source\": \"--arithmetic\"")
+add_test(NAME cli.icp_slam_arithmetic_unknown
+  COMMAND rove icp-slam --no-progress --arithmetic single -o ${CMAKE_CURRENT_BINARY_DIR}/icp_slam_single)
+set_tests_properties(cli.icp_slam_arithmetic_unknown PROPERTIES LABELS cli WILL_FAIL TRUE)
+
 # A config whose rawlog_file does not exist and no rawlog given: a clear error
 # naming the key.
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/icp_slam_norawlog.ini

@@ -29,7 +29,15 @@ const std::string kData = ROVE_SOURCE_DIR "/modules/io/tests/data/";
 const std::string kDatasets = test_data::bundled_file("mrpt/");
 
 // MRPT's thin-ray insertion written plainly (options as GridInsertionOptions,
-// wideningBeamsWithDistance false, no int8 wrap of the occupied strength).
+// wideningBeamsWithDistance false, no int8 wrap of the occupied strength),
+// with MRPT's float ray geometry: the oracle of insert_scan with
+// Arithmetic::Mrpt (as_mrpt). The fast paths it checks (the integer tracer)
+// are the same in rove's default geometry.
+GridInsertionOptions as_mrpt(GridInsertionOptions o) {
+  o.arithmetic = Arithmetic::Mrpt;
+  return o;
+}
+
 template <GridCell Cell>
 void oracle_insert(OccupancyGridT<Cell>& g, const RangeScan2D& scan, const Pose3& T_map_robot,
                    const GridInsertionOptions& opt) {
@@ -221,7 +229,7 @@ void expect_same_as_oracle(const Scans& scans, const std::vector<Pose3>& poses, 
   ASSERT_EQ(scans.size(), poses.size());
   OccupancyGridT<Cell> fast(-10, 10, -10, 10, res), slow(-10, 10, -10, 10, res);
   for (std::size_t i = 0; i < scans.size(); ++i) {
-    ASSERT_TRUE(insert_scan(fast, *scans[i], poses[i], opt).inserted());
+    ASSERT_TRUE(insert_scan(fast, *scans[i], poses[i], as_mrpt(opt)).inserted());
     oracle_insert(slow, *scans[i], poses[i], opt);
     if (i % 8 == 7 || i + 1 == scans.size()) {
       ASSERT_TRUE(fast == slow) << "after scan " << i << " of " << scans.size();
@@ -303,10 +311,10 @@ TEST(GridInsertionOracle, RandomScansEqualStraightforwardLoop) {
       const bool far = k % 5 == 4;
       const Pose2 pose(far ? 40.0 : 2.0 * u01(rng) - 1.0, far ? -35.0 : 2.0 * u01(rng) - 1.0,
                        6.283 * u01(rng));
-      insert_scan(fast, scan, pose, opt);
+      insert_scan(fast, scan, pose, as_mrpt(opt));
       oracle_insert(slow, scan, Pose3(pose), opt);
       ASSERT_TRUE(fast == slow) << "trial " << trial << " scan " << k;
-      insert_scan(fast16, scan, pose, opt);
+      insert_scan(fast16, scan, pose, as_mrpt(opt));
       oracle_insert(slow16, scan, Pose3(pose), opt);
       ASSERT_TRUE(fast16 == slow16) << "trial " << trial << " scan " << k;
     }
@@ -335,7 +343,7 @@ Pose2 near(std::mt19937& rng, double x, double y) {
 template <GridCell Cell>
 void insert_both(OccupancyGridT<Cell>& fast, OccupancyGridT<Cell>& slow, const RangeScan2D& scan,
                  const Pose2& pose, const GridInsertionOptions& opt) {
-  ASSERT_TRUE(insert_scan(fast, scan, pose, opt).inserted());
+  ASSERT_TRUE(insert_scan(fast, scan, pose, as_mrpt(opt)).inserted());
   oracle_insert(slow, scan, Pose3(pose), opt);
   ASSERT_TRUE(fast == slow);
   expect_summary_sound(fast);

@@ -1,5 +1,8 @@
 // Agreement of rove's occupancy grid with MRPT 2.5.8 (references written by
-// tools/mrpt_grid_reference from the MRPT datasets).
+// tools/mrpt_grid_reference from the MRPT datasets). Insertion and the
+// likelihoods that insert run in Arithmetic::Mrpt (parity: suites named
+// *MrptCompat, ctest label mrpt_compat); rove's default geometry is checked
+// against ground truth in occupancy_grid_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -118,8 +121,10 @@ void build_and_compare(const std::string& ref_name,
   const RefGrid ref = read_ref(ref_name);
   ASSERT_EQ(scans.size(), ref.poses.size());
   OccupancyGrid g(-10, 10, -10, 10, res);
+  GridInsertionOptions mrpt = opt;
+  mrpt.arithmetic = Arithmetic::Mrpt;
   for (std::size_t i = 0; i < scans.size(); ++i) {
-    ASSERT_TRUE(insert_scan(g, *scans[i], ref.poses[i], opt).inserted());
+    ASSERT_TRUE(insert_scan(g, *scans[i], ref.poses[i], mrpt).inserted());
   }
   const Agreement a = compare(g, ref.grid);
   ASSERT_GT(a.total, 0u);
@@ -131,12 +136,29 @@ void build_and_compare(const std::string& ref_name,
   EXPECT_GE(eq, 0.99);
 }
 
-TEST(OccupancyGridMrpt, MalagaSimplemapMatchesMrpt) {
+// The same insertion in rove's default arithmetic: the rays at the scan's
+// own angles move cells near the edges of the aperture (MRPT spaces the
+// rays aperture / N apart), but the map is the same map.
+TEST(OccupancyGrid, DefaultArithmeticBuildsTheSameMapAsMrpt) {
+  const RefGrid ref = read_ref("grid_telecom_005.bin.gz");
+  const auto scans = rawlog_scans("2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog");
+  OccupancyGrid g(-10, 10, -10, 10, 0.05f);
+  for (std::size_t i = 0; i < scans.size(); ++i)
+    ASSERT_TRUE(insert_scan(g, *scans[i], ref.poses[i], {}).inserted());
+  const Agreement a = compare(g, ref.grid);
+  ASSERT_GT(a.total, 0u);
+  const double cl = static_cast<double>(a.same_class) / a.total;
+  std::printf("telecom, default arithmetic: %zu cells, %.4f%% same class as MRPT's\n", a.total,
+              100 * cl);
+  EXPECT_GE(cl, 0.95);
+}
+
+TEST(OccupancyGridMrptCompat, MalagaSimplemapMatchesMrpt) {
   build_and_compare("grid_malaga_005.bin.gz", simplemap_scans("malaga-cs-fac-building.simplemap.gz"),
                     0.05f, {});
 }
 
-TEST(OccupancyGridMrpt, LocalizationDemoWideningBeamsMatchesMrpt) {
+TEST(OccupancyGridMrptCompat, LocalizationDemoWideningBeamsMatchesMrpt) {
   GridInsertionOptions o;
   o.widening_beams_with_distance = true;
   o.decimation = 2;
@@ -145,13 +167,13 @@ TEST(OccupancyGridMrpt, LocalizationDemoWideningBeamsMatchesMrpt) {
                     simplemap_scans("localization_demo.simplemap.gz"), 0.10f, o);
 }
 
-TEST(OccupancyGridMrpt, TelecomRawlogAtOdometryMatchesMrpt) {
+TEST(OccupancyGridMrptCompat, TelecomRawlogAtOdometryMatchesMrpt) {
   build_and_compare("grid_telecom_005.bin.gz",
                     rawlog_scans("2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog"), 0.05f,
                     {});
 }
 
-TEST(OccupancyGridMrpt, LikelihoodsMatchMrptForEveryMethod) {
+TEST(OccupancyGridMrptCompat, LikelihoodsMatchMrptForEveryMethod) {
   const RefGrid ref = read_ref("grid_telecom_005.bin.gz");
   const auto scans = rawlog_scans("2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog");
   std::ifstream in(kData + "grid_likelihood_reference.txt");
@@ -171,6 +193,7 @@ TEST(OccupancyGridMrpt, LikelihoodsMatchMrptForEveryMethod) {
     ls >> si >> dx >> dy >> dphi >> method >> dec >> alt >> sq >> vs;
     value = std::strtod(vs.c_str(), nullptr);
     GridLikelihoodOptions o;
+    o.arithmetic = Arithmetic::Mrpt;
     o.method = static_cast<GridLikelihoodMethod>(method);
     o.lf_decimation = dec;
     o.lf_alternate_average_method = alt != 0;
@@ -253,7 +276,7 @@ namespace {
 // MRPT's computeEntropy on its own grids (tools/mrpt_grid_reference):
 // EntropyTable::kMrpt reproduces every number; kExact differs only by the
 // unknown cells (value 0) and cells at −1, which MRPT's table zeroes.
-TEST(GridEntropy, MatchesMrptComputeEntropyOnMrptGrids) {
+TEST(GridEntropyMrptCompat, MatchesMrptComputeEntropyOnMrptGrids) {
   std::ifstream in(kData + "grid_entropy_reference.txt");
   ASSERT_TRUE(in.good());
   std::string line;

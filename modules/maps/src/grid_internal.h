@@ -8,18 +8,11 @@
 
 namespace rove::detail {
 
-/// insert_scan with MRPT's int8 arithmetic for the occupied update
-/// (3·L computed in the cell type, wrapping above p ≈ 0.9), as MRPT's
-/// cells-difference likelihood builds its comparison grid with p = 0.95.
-template <GridCell Cell>
-GridInsertResult insert_scan_mrpt_overflow(OccupancyGridT<Cell>& grid, const RangeScan2D& scan,
-                                           const Pose3& T_map_robot,
-                                           const GridInsertionOptions& options);
-
 /// Sum of the information 1 − H(p')/ln 2 of each cell update that inserting
 /// the scan (thin rays, one in `ray_step`) would make, p' the updated
 /// probability of each visited cell taken alone; the grid is not changed and
-/// cells outside it count as unknown.
+/// cells outside it count as unknown. The ray geometry and the arithmetic
+/// are those of options.arithmetic (as insert_scan).
 struct ScanInformation {
   double information = 0.0;
   std::size_t cells = 0;
@@ -28,5 +21,22 @@ template <GridCell Cell>
 ScanInformation scan_information(const OccupancyGridT<Cell>& grid, const RangeScan2D& scan,
                                  const Pose3& T_map_robot, const GridInsertionOptions& options,
                                  int ray_step);
+
+/// The update strengths of an insertion; with `mrpt_wrap` the occupied one
+/// is computed in the cell type as MRPT does (it wraps around for int8 above
+/// p ≈ 0.9), else it saturates.
+struct InsertStrengths;
+template <GridCell Cell>
+InsertStrengths insert_strengths(const GridInsertionOptions& options, bool mrpt_wrap);
+
+template <typename Real>
+struct RayDirections;
+/// MRPT's ray directions (grid_insertion_mrpt.cpp): the angle accumulated in
+/// float from the first ray in steps of step·aperture / N (N rays, not
+/// N − 1 as the scan's own angles), the first angle rounded as MRPT's thin
+/// (`widening` false) or widening-beam branch rounds it, beams
+/// aperture / N wide.
+RayDirections<float> mrpt_ray_directions(const RangeScan2D& scan, const Pose3& T_map_sensor,
+                                         int step, bool widening);
 
 }  // namespace rove::detail

@@ -137,6 +137,8 @@ GridLikelihoodOptions GridLikelihoodOptions::from_config(const ConfigSection& co
   ri("consensus_takeEachRange", o.consensus_take_each_range);
   rf("consensus_pow", o.consensus_pow);
   if (ini.has(section, "OWA_weights")) o.owa_weights = ini.get_vector<float>(section, "OWA_weights");
+  if (ini.has(section, "arithmetic"))
+    o.arithmetic = ini.get_enum<Arithmetic>(section, "arithmetic", kArithmeticNames);
   // Each value against its range, naming the key (check() below is the
   // precondition of the models and stays the last line of defence).
   const auto need = [&](bool ok, const char* key, double v, std::string_view range) {
@@ -303,18 +305,6 @@ void GridLikelihoodModel<Cell>::log_likelihood(const PreparedGridScan& scan,
 }
 
 template <GridCell Cell>
-double GridLikelihoodModel<Cell>::log_likelihood(const PreparedGridScan& scan,
-                                                 const SE2d& T_map_robot) const {
-  check_fresh();
-  const Eigen::Vector2d& t = T_map_robot.translation();
-  if (scan.usable && options_.method == GridLikelihoodMethod::kLikelihoodFieldThrun) {
-    const Eigen::Vector2d cs = T_map_robot.rotation().unit_complex();
-    return likelihood_field(scan, t.x(), t.y(), cs.x(), cs.y());
-  }
-  return eval_one(scan, Pose2(t.x(), t.y(), T_map_robot.angle()));
-}
-
-template <GridCell Cell>
 double GridLikelihoodModel<Cell>::log_likelihood(const RangeScan2D& scan,
                                                  const Pose3& T_map_robot) const {
   check_fresh();
@@ -366,27 +356,48 @@ float simulate_ray(const OccupancyGridT<Cell>& g, double x, double y, double ang
 
 }  // namespace detail
 
+namespace {
+
+/// What every likelihood method needs: the grid, the options, the prepared
+/// scan and the pose (its rotation and translation).
 template <GridCell Cell>
-double GridLikelihoodModel<Cell>::likelihood_field(const PreparedGridScan& s, double x0, double y0,
-                                                   double c, double sn) const {
-  const auto& g = *grid_;
-  const GridLikelihoodOptions& o = options_;
-  const std::size_t n = s.xs.size();
+struct EvalContext {
+  const OccupancyGridT<Cell>& g;
+  const GridLikelihoodOptions& o;
+  const GridInsertionOptions& insertion;
+  const PreparedGridScan& s;
+  Pose2 pose;
+  double c, sn, x0, y0;
+  /// The number of points of the prepared scan.
+  std::size_t size() const { return s.xs.size(); }
+  /// The scan as given.
+  const RangeScan2D& scan() const { return *s.scan; }
+  /// Point j of the prepared scan in the map frame.
+  Eigen::Vector2d world(std::size_t j) const {
+    const double lx = s.xs[j], ly = s.ys[j];
+    return {x0 + lx * c - ly * sn, y0 + lx * sn + ly * c};
+  }
+};
+
+/// Thrun's likelihood field over the precomputed per-cell values.
+template <GridCell Cell>
+double field_thrun(const EvalContext<Cell>& ctx, const std::vector<double>& field, double field_outside) {
+  const auto& g = ctx.g;
+  const GridLikelihoodOptions& o = ctx.o;
+  const std::size_t n = ctx.size();
   if (n == 0) return -100.0;
   const std::size_t step = n < 10 ? 1 : o.lf_decimation;
   const int lim_x = static_cast<int>(g.size_x()) - 1, lim_y = static_cast<int>(g.size_y()) - 1;
   double sum = 0.0;
   std::size_t m = 0;
-  const double* field = field_.data();
   for (std::size_t j = 0; j < n; j += step, ++m) {
-    const double lx = s.xs[j], ly = s.ys[j];
-    const double gx = x0 + lx * c - ly * sn;
-    const double gy = y0 + lx * sn + ly * c;
+    const Eigen::Vector2d w = ctx.world(j);
+    const double gx = w.x(), gy = w.y();
     const int cx = g.x_to_idx_clamped(gx), cy = g.y_to_idx_clamped(gy);
     // MRPT treats the last row and column as outside.
     if (static_cast<unsigned>(cx) >= static_cast<unsigned>(lim_x) ||
         static_cast<unsigned>(cy) >= static_cast<unsigned>(lim_y)) {
-      sum += field_outside_;
+      sum += field_outside;
     } else {
       sum += field[g.index(cx, cy)];
     }
@@ -394,167 +405,223 @@ double GridLikelihoodModel<Cell>::likelihood_field(const PreparedGridScan& s, do
   return o.lf_alternate_average_method ? std::log(sum / static_cast<double>(m)) : sum;
 }
 
+/// The likelihood field II: per point, the mean over a window of cells.
+template <GridCell Cell>
+double field_ii(const EvalContext<Cell>& ctx) {
+  const auto& g = ctx.g;
+  const GridLikelihoodOptions& o = ctx.o;
+  const std::size_t n = ctx.size();
+  if (n == 0) return 1e-100;
+  const float z_random_term = 1.0f / o.lf_max_range;
+  const float q = -0.5f / (o.lf_std_hit * o.lf_std_hit);
+  const int k = static_cast<int>(std::ceil(o.lf_max_corrs_distance / g.resolution()));
+  const int sx = static_cast<int>(g.size_x()), sy = static_cast<int>(g.size_y());
+  double ret = 0.0;
+  std::size_t n_used = 0;
+  for (std::size_t j = 0; j < n; j += o.lf_decimation) {
+    const Eigen::Vector2d w = ctx.world(j);
+    const double gx = w.x(), gy = w.y();
+    const int cx0 = g.x_to_idx_clamped(gx), cy0 = g.y_to_idx_clamped(gy);
+    int cx_min = std::max(cx0 - k, 0), cx_max = std::min(cx0 + k, sx);
+    int cy_min = std::max(cy0 - k, 0), cy_max = std::min(cy0 + k, sy);
+    if (cx_min > cx_max || cy_min > cy_max) {
+      // Far outside: a window of unknown cells around the point.
+      cx_min = cx0 - k;
+      cx_max = cx0 + k;
+      cy_min = cy0 - k;
+      cy_max = cy0 + k;
+    }
+    double lik = 0.0;
+    for (int cx = cx_min; cx <= cx_max; ++cx) {
+      for (int cy = cy_min; cy <= cy_max; ++cy) {
+        const float p_free = g.free_probability(cx, cy);
+        const double ddx = static_cast<double>(g.idx_to_x(static_cast<std::size_t>(cx))) - gx;
+        const double ddy = static_cast<double>(g.idx_to_y(static_cast<std::size_t>(cy))) - gy;
+        const float term = static_cast<float>(std::exp(q * (ddx * ddx + ddy * ddy)));
+        lik += p_free * z_random_term + (1.0f - p_free) * term;
+      }
+    }
+    if (o.lf_alternate_average_method) {
+      ret += lik;
+    } else {
+      ret += std::log(lik / ((cy_max - cy_min + 1) * (cx_max - cx_min + 1)));
+    }
+    ++n_used;
+  }
+  if (o.lf_alternate_average_method && n_used > 0) return std::log(ret / n_used);
+  return ret / static_cast<double>(n_used);
+}
+
+/// The consensus of the points' cells.
+template <GridCell Cell>
+double consensus(const EvalContext<Cell>& ctx) {
+  const auto& g = ctx.g;
+  const GridLikelihoodOptions& o = ctx.o;
+  const std::size_t n = ctx.size();
+  double lik = 0.0;
+  std::size_t denom = 0;
+  for (std::size_t j = 0; j < n; j += static_cast<std::size_t>(o.consensus_take_each_range)) {
+    const Eigen::Vector2d w = ctx.world(j);
+    const double gx = w.x(), gy = w.y();
+    lik += 1.0 - g.free_probability(g.x_to_idx_clamped(gx), g.y_to_idx_clamped(gy));
+    ++denom;
+  }
+  if (denom) lik /= static_cast<double>(denom);
+  return std::log(std::pow(lik, static_cast<double>(o.consensus_pow)));
+}
+
+/// The ordered weighted average of the points' 3×3-window occupancies.
+template <GridCell Cell>
+double consensus_owa(const EvalContext<Cell>& ctx) {
+  const auto& g = ctx.g;
+  const GridLikelihoodOptions& o = ctx.o;
+  const std::size_t n = ctx.size();
+  std::vector<double> liks;
+  liks.reserve(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const Eigen::Vector2d w = ctx.world(j);
+    const double gx = w.x(), gy = w.y();
+    const int cx0 = g.x_to_idx_clamped(gx), cy0 = g.y_to_idx_clamped(gy);
+    double lik = 0.0;
+    int cells = 0;
+    for (int cx = cx0 - 1; cx <= cx0 + 1; ++cx) {
+      for (int cy = cy0 - 1; cy <= cy0 + 1; ++cy) {
+        lik += 1.0 - g.free_probability(cx, cy);
+        ++cells;
+      }
+    }
+    liks.push_back(lik / cells);
+  }
+  std::sort(liks.begin(), liks.end(), std::greater<>());
+  double r = 0.0;
+  for (std::size_t k = 0; k < std::min(liks.size(), o.owa_weights.size()); ++k) {
+    r += static_cast<double>(o.owa_weights[k]) * liks[k];
+  }
+  return std::log(r);
+}
+
+/// Simulated against measured ranges along one ray in rayTracing_decimation.
+template <GridCell Cell>
+double ray_tracing(const EvalContext<Cell>& ctx) {
+  const auto& g = ctx.g;
+  const GridLikelihoodOptions& o = ctx.o;
+  const RangeScan2D& scan = ctx.scan();
+  const std::size_t n_rays = scan.size();
+  double ret = 1.0;
+  if (n_rays < 2) return ret;
+  const Pose3 T_map_sensor = Pose3(ctx.pose) + scan.T_robot_sensor;
+  const double yaw = T_map_sensor.yaw();
+  const double aperture = static_cast<float>(scan.aperture);
+  const auto dec = static_cast<std::size_t>(o.ray_tracing_decimation);
+  double a = yaw + (scan.right_to_left ? -0.5 : 0.5) * aperture;
+  const double da = (scan.right_to_left ? 1.0 : -1.0) * (aperture / static_cast<double>(n_rays - 1));
+  const Cell thr = LogOddsLut<Cell>::instance().p2l(1.0f - 0.45f);
+  const double std_sqrt2 = static_cast<double>(std::sqrt(2.0f)) * o.ray_tracing_std_hit;
+  const double max_range = scan.max_range;
+  for (std::size_t j = 0; j < n_rays; j += dec, a += da * static_cast<double>(dec)) {
+    if (!ray_valid(scan, j)) continue;
+    const float r_sim =
+        detail::simulate_ray(g, T_map_sensor.x(), T_map_sensor.y(), a, max_range, thr);
+    const float diff = std::min(std::fabs(r_sim - scan.ranges[j]), 2.0f);
+    const double z = diff / std_sqrt2;
+    ret += std::log(0.1 / scan.max_range + 0.9 * std::exp(-(z * z)));
+  }
+  return ret;
+}
+
+/// The disagreement between the grid and a grid built from the scan alone.
+template <GridCell Cell>
+double cells_difference(const EvalContext<Cell>& ctx) {
+  const auto& g = ctx.g;
+  const GridLikelihoodOptions& o = ctx.o;
+  const RangeScan2D& scan = ctx.scan();
+  const double x0 = ctx.x0, y0 = ctx.y0;
+  // Far from the origin, float cannot hold a 20 m grid around the pose:
+  // no cell of this grid can be compared there.
+  if (!(static_cast<float>(x0 + 10) > static_cast<float>(x0 - 10)) ||
+      !(static_cast<float>(y0 + 10) > static_cast<float>(y0 - 10)) ||
+      std::fabs(x0) + std::fabs(y0) > 1e6) {
+    return 0.0;
+  }
+  OccupancyGridT<Cell> cmp(static_cast<float>(x0 - 10), static_cast<float>(x0 + 10),
+                           static_cast<float>(y0 - 10), static_cast<float>(y0 + 10),
+                           g.resolution());
+  // MRPT's comparison grid: p = 0.95, whose 3·L overflows int8 in
+  // MRPT's arithmetic (reproduced only with Arithmetic::Mrpt).
+  GridInsertionOptions io;
+  io.max_distance_insertion = ctx.insertion.max_distance_insertion;
+  io.max_occupancy_update_certainty = 0.95f;
+  io.arithmetic = o.arithmetic;
+  insert_scan(cmp, scan, Pose3(ctx.pose), io);
+  const int ax = static_cast<int>(std::round((g.x_min() - cmp.x_min()) / g.resolution()));
+  const int ay = static_cast<int>(std::round((g.y_min() - cmp.y_min()) / g.resolution()));
+  const int xa = std::max(0, ax), ya = std::max(0, ay);
+  const int xb = static_cast<int>(std::min<long long>(cmp.size_x(), static_cast<long long>(g.size_x()) + ax));
+  const int yb = static_cast<int>(std::min<long long>(cmp.size_y(), static_cast<long long>(g.size_y()) + ay));
+  int compared = 0;
+  float differ = 0;
+  for (int x = xa; x < xb; ++x) {
+    for (int y = ya; y < yb; ++y) {
+      const float xx = cmp.idx_to_x(static_cast<std::size_t>(x));
+      const float yy = cmp.idx_to_y(static_cast<std::size_t>(y));
+      const float c1 = g.free_probability(g.x_to_idx(xx), g.y_to_idx(yy));
+      const float c2 = cmp.free_probability(x, y);
+      if (c2 < 0.45f || c2 > 0.55f) {
+        ++compared;
+        if ((c1 > 0.5f && c2 < 0.5f) || (c1 < 0.5f && c2 > 0.5f)) differ += 1.0f;
+      }
+    }
+  }
+  // No observed cell to compare (MRPT divides 0 by 0): no evidence.
+  if (compared == 0) return 0.0;
+  return std::log(static_cast<double>(1.0f - differ / static_cast<float>(compared)));
+}
+
+/// The mean information of the cells the scan would update.
+template <GridCell Cell>
+double mean_information(const EvalContext<Cell>& ctx) {
+  const auto& g = ctx.g;
+  const GridLikelihoodOptions& o = ctx.o;
+  const RangeScan2D& scan = ctx.scan();
+  GridInsertionOptions io = ctx.insertion;
+  io.max_distance_insertion *= o.mi_ratio_max_distance;
+  io.arithmetic = o.arithmetic;
+  const auto stats =
+      detail::scan_information(g, scan, Pose3(ctx.pose), io, static_cast<int>(o.mi_skip_rays));
+  const double mean_i = stats.cells ? stats.information / static_cast<double>(stats.cells) : 0.0;
+  return std::log(std::pow(mean_i, static_cast<double>(o.mi_exponent)));
+}
+
+}  // namespace
+
+template <GridCell Cell>
+double GridLikelihoodModel<Cell>::log_likelihood(const PreparedGridScan& scan,
+                                                 const SE2d& T_map_robot) const {
+  check_fresh();
+  const Eigen::Vector2d& t = T_map_robot.translation();
+  const Pose2 pose(t.x(), t.y(), T_map_robot.angle());
+  if (scan.usable && options_.method == GridLikelihoodMethod::kLikelihoodFieldThrun) {
+    // The rotation's cosine and sine as they are, not recomputed from the angle.
+    const Eigen::Vector2d cs = T_map_robot.rotation().unit_complex();
+    const EvalContext<Cell> ctx{*grid_, options_, insertion_, scan, pose, cs.x(), cs.y(), t.x(), t.y()};
+    return field_thrun(ctx, field_, field_outside_);
+  }
+  return eval_one(scan, pose);
+}
+
 template <GridCell Cell>
 double GridLikelihoodModel<Cell>::eval_one(const PreparedGridScan& s, const Pose2& pose) const {
   if (!s.usable) return s.fixed_value;
-  const auto& g = *grid_;
-  const GridLikelihoodOptions& o = options_;
-  const RangeScan2D& scan = *s.scan;
-  const std::size_t n = s.xs.size();
-  const double c = std::cos(pose.phi()), sn = std::sin(pose.phi());
-  const double x0 = pose.x(), y0 = pose.y();
-  switch (o.method) {
-    case GridLikelihoodMethod::kLikelihoodFieldThrun:
-      return likelihood_field(s, x0, y0, c, sn);
-    case GridLikelihoodMethod::kLikelihoodFieldII: {
-      if (n == 0) return 1e-100;
-      const float z_random_term = 1.0f / o.lf_max_range;
-      const float q = -0.5f / (o.lf_std_hit * o.lf_std_hit);
-      const int k = static_cast<int>(std::ceil(o.lf_max_corrs_distance / g.resolution()));
-      const int sx = static_cast<int>(g.size_x()), sy = static_cast<int>(g.size_y());
-      double ret = 0.0;
-      std::size_t n_used = 0;
-      for (std::size_t j = 0; j < n; j += o.lf_decimation) {
-        const double lx = s.xs[j], ly = s.ys[j];
-        const double gx = x0 + lx * c - ly * sn;
-        const double gy = y0 + lx * sn + ly * c;
-        const int cx0 = g.x_to_idx_clamped(gx), cy0 = g.y_to_idx_clamped(gy);
-        int cx_min = std::max(cx0 - k, 0), cx_max = std::min(cx0 + k, sx);
-        int cy_min = std::max(cy0 - k, 0), cy_max = std::min(cy0 + k, sy);
-        if (cx_min > cx_max || cy_min > cy_max) {
-          // Far outside: a window of unknown cells around the point.
-          cx_min = cx0 - k;
-          cx_max = cx0 + k;
-          cy_min = cy0 - k;
-          cy_max = cy0 + k;
-        }
-        double lik = 0.0;
-        for (int cx = cx_min; cx <= cx_max; ++cx) {
-          for (int cy = cy_min; cy <= cy_max; ++cy) {
-            const float p_free = g.free_probability(cx, cy);
-            const double ddx = static_cast<double>(g.idx_to_x(static_cast<std::size_t>(cx))) - gx;
-            const double ddy = static_cast<double>(g.idx_to_y(static_cast<std::size_t>(cy))) - gy;
-            const float term = static_cast<float>(std::exp(q * (ddx * ddx + ddy * ddy)));
-            lik += p_free * z_random_term + (1.0f - p_free) * term;
-          }
-        }
-        if (o.lf_alternate_average_method) {
-          ret += lik;
-        } else {
-          ret += std::log(lik / ((cy_max - cy_min + 1) * (cx_max - cx_min + 1)));
-        }
-        ++n_used;
-      }
-      if (o.lf_alternate_average_method && n_used > 0) return std::log(ret / n_used);
-      return ret / static_cast<double>(n_used);
-    }
-    case GridLikelihoodMethod::kConsensus: {
-      double lik = 0.0;
-      std::size_t denom = 0;
-      for (std::size_t j = 0; j < n; j += static_cast<std::size_t>(o.consensus_take_each_range)) {
-        const double lx = s.xs[j], ly = s.ys[j];
-        const double gx = x0 + lx * c - ly * sn;
-        const double gy = y0 + lx * sn + ly * c;
-        lik += 1.0 - g.free_probability(g.x_to_idx_clamped(gx), g.y_to_idx_clamped(gy));
-        ++denom;
-      }
-      if (denom) lik /= static_cast<double>(denom);
-      return std::log(std::pow(lik, static_cast<double>(o.consensus_pow)));
-    }
-    case GridLikelihoodMethod::kConsensusOWA: {
-      std::vector<double> liks;
-      liks.reserve(n);
-      for (std::size_t j = 0; j < n; ++j) {
-        const double lx = s.xs[j], ly = s.ys[j];
-        const double gx = x0 + lx * c - ly * sn;
-        const double gy = y0 + lx * sn + ly * c;
-        const int cx0 = g.x_to_idx_clamped(gx), cy0 = g.y_to_idx_clamped(gy);
-        double lik = 0.0;
-        int cells = 0;
-        for (int cx = cx0 - 1; cx <= cx0 + 1; ++cx) {
-          for (int cy = cy0 - 1; cy <= cy0 + 1; ++cy) {
-            lik += 1.0 - g.free_probability(cx, cy);
-            ++cells;
-          }
-        }
-        liks.push_back(lik / cells);
-      }
-      std::sort(liks.begin(), liks.end(), std::greater<>());
-      double r = 0.0;
-      for (std::size_t k = 0; k < std::min(liks.size(), o.owa_weights.size()); ++k) {
-        r += static_cast<double>(o.owa_weights[k]) * liks[k];
-      }
-      return std::log(r);
-    }
-    case GridLikelihoodMethod::kRayTracing: {
-      const std::size_t n_rays = scan.size();
-      double ret = 1.0;
-      if (n_rays < 2) return ret;
-      const Pose3 T_map_sensor = Pose3(pose) + scan.T_robot_sensor;
-      const double yaw = T_map_sensor.yaw();
-      const double aperture = static_cast<float>(scan.aperture);
-      const auto dec = static_cast<std::size_t>(o.ray_tracing_decimation);
-      double a = yaw + (scan.right_to_left ? -0.5 : 0.5) * aperture;
-      const double da = (scan.right_to_left ? 1.0 : -1.0) * (aperture / static_cast<double>(n_rays - 1));
-      const Cell thr = LogOddsLut<Cell>::instance().p2l(1.0f - 0.45f);
-      const double std_sqrt2 = static_cast<double>(std::sqrt(2.0f)) * o.ray_tracing_std_hit;
-      const double max_range = scan.max_range;
-      for (std::size_t j = 0; j < n_rays; j += dec, a += da * static_cast<double>(dec)) {
-        if (!ray_valid(scan, j)) continue;
-        const float r_sim =
-            detail::simulate_ray(g, T_map_sensor.x(), T_map_sensor.y(), a, max_range, thr);
-        const float diff = std::min(std::fabs(r_sim - scan.ranges[j]), 2.0f);
-        const double z = diff / std_sqrt2;
-        ret += std::log(0.1 / scan.max_range + 0.9 * std::exp(-(z * z)));
-      }
-      return ret;
-    }
-    case GridLikelihoodMethod::kCellsDifference: {
-      // Far from the origin, float cannot hold a 20 m grid around the pose:
-      // no cell of this grid can be compared there.
-      if (!(static_cast<float>(x0 + 10) > static_cast<float>(x0 - 10)) ||
-          !(static_cast<float>(y0 + 10) > static_cast<float>(y0 - 10)) ||
-          std::fabs(x0) + std::fabs(y0) > 1e6) {
-        return 0.0;
-      }
-      OccupancyGridT<Cell> cmp(static_cast<float>(x0 - 10), static_cast<float>(x0 + 10),
-                               static_cast<float>(y0 - 10), static_cast<float>(y0 + 10),
-                               g.resolution());
-      GridInsertionOptions io;
-      io.max_distance_insertion = insertion_.max_distance_insertion;
-      io.max_occupancy_update_certainty = 0.95f;
-      detail::insert_scan_mrpt_overflow(cmp, scan, Pose3(pose), io);
-      const int ax = static_cast<int>(std::round((g.x_min() - cmp.x_min()) / g.resolution()));
-      const int ay = static_cast<int>(std::round((g.y_min() - cmp.y_min()) / g.resolution()));
-      const int xa = std::max(0, ax), ya = std::max(0, ay);
-      const int xb = static_cast<int>(std::min<long long>(cmp.size_x(), static_cast<long long>(g.size_x()) + ax));
-      const int yb = static_cast<int>(std::min<long long>(cmp.size_y(), static_cast<long long>(g.size_y()) + ay));
-      int compared = 0;
-      float differ = 0;
-      for (int x = xa; x < xb; ++x) {
-        for (int y = ya; y < yb; ++y) {
-          const float xx = cmp.idx_to_x(static_cast<std::size_t>(x));
-          const float yy = cmp.idx_to_y(static_cast<std::size_t>(y));
-          const float c1 = g.free_probability(g.x_to_idx(xx), g.y_to_idx(yy));
-          const float c2 = cmp.free_probability(x, y);
-          if (c2 < 0.45f || c2 > 0.55f) {
-            ++compared;
-            if ((c1 > 0.5f && c2 < 0.5f) || (c1 < 0.5f && c2 > 0.5f)) differ += 1.0f;
-          }
-        }
-      }
-      // No observed cell to compare (MRPT divides 0 by 0): no evidence.
-      if (compared == 0) return 0.0;
-      return std::log(static_cast<double>(1.0f - differ / static_cast<float>(compared)));
-    }
-    case GridLikelihoodMethod::kMeanInformation: {
-      GridInsertionOptions io = insertion_;
-      io.max_distance_insertion *= o.mi_ratio_max_distance;
-      const auto stats =
-          detail::scan_information(g, scan, Pose3(pose), io, static_cast<int>(o.mi_skip_rays));
-      const double mean_i = stats.cells ? stats.information / static_cast<double>(stats.cells) : 0.0;
-      return std::log(std::pow(mean_i, static_cast<double>(o.mi_exponent)));
-    }
+  const EvalContext<Cell> ctx{*grid_, options_, insertion_, s, pose, std::cos(pose.phi()),
+                              std::sin(pose.phi()), pose.x(), pose.y()};
+  switch (options_.method) {
+    case GridLikelihoodMethod::kLikelihoodFieldThrun: return field_thrun(ctx, field_, field_outside_);
+    case GridLikelihoodMethod::kLikelihoodFieldII: return field_ii(ctx);
+    case GridLikelihoodMethod::kConsensus: return consensus(ctx);
+    case GridLikelihoodMethod::kConsensusOWA: return consensus_owa(ctx);
+    case GridLikelihoodMethod::kRayTracing: return ray_tracing(ctx);
+    case GridLikelihoodMethod::kCellsDifference: return cells_difference(ctx);
+    case GridLikelihoodMethod::kMeanInformation: return mean_information(ctx);
   }
   return 0.0;
 }

@@ -54,7 +54,7 @@ bool points_of(const Observation& o, const Pose3& T_map_robot, bool want_colors,
   const Pose3 T_map_sensor = T_map_robot + o.T_robot_sensor;
   sp.origin = T_map_sensor.translation();
   if (const auto* scan = dynamic_cast<const RangeScan2D*>(&o)) {
-    sp.p_map = detail::scan_points_mrpt(*scan, T_map_robot, PointMapInsertionOptions{}, nullptr);
+    sp.p_map = detail::scan_points(*scan, T_map_robot, PointMapInsertionOptions{}, nullptr);
     return true;
   }
   if (const auto* img = dynamic_cast<const RangeImage3D*>(&o)) {

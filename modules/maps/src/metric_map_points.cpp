@@ -24,6 +24,7 @@ PointMapInsertionOptions PointMapInsertionOptions::from_config(const ConfigSecti
   o.is_planar_map = s.get<bool>("isPlanarMap", o.is_planar_map);
   o.max_dist_for_interpolate = s.get<float>("maxDistForInterpolatePoints", o.max_dist_for_interpolate);
   o.insert_invalid_points = s.get<bool>("insertInvalidPoints", o.insert_invalid_points);
+  o.arithmetic = s.get_enum("arithmetic", o.arithmetic, kArithmeticNames);
   if (!std::isfinite(o.min_dist_between_points)) s.fail("minDistBetweenLaserPoints", "must be finite");
   if (!(o.horizontal_tolerance >= 0)) s.fail("horizontalTolerance", "must be >= 0");
   if (!std::isfinite(o.max_dist_for_interpolate)) s.fail("maxDistForInterpolatePoints", "must be finite");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "rove/core/check.h"
+#include "point_map_internal.h"
 
 namespace rove {
 
@@ -127,39 +128,34 @@ void mrpt_filter(const std::vector<Eigen::Vector3f>& cand, const std::vector<boo
 }
 }  // namespace
 
-std::vector<Eigen::Vector3f> scan_points_mrpt(const RangeScan2D& scan, const Pose3& T_frame_robot,
-                                              const PointMapInsertionOptions& o, std::vector<int>* ray_of) {
+std::vector<Eigen::Vector3f> scan_points(const RangeScan2D& scan, const Pose3& T_frame_robot,
+                                         const PointMapInsertionOptions& o, std::vector<int>* ray_of) {
   scan.check();
   std::vector<Eigen::Vector3f> out;
   if (ray_of) ray_of->clear();
   const std::size_t n = scan.size();
   if (n == 0) return out;
-  const Pose3 T = T_frame_robot + scan.T_robot_sensor;
-  const Eigen::Matrix3d R = T.rotation();
-  const Eigen::Vector3d t = T.translation();
-  std::vector<Eigen::Vector3f> cand(n, Eigen::Vector3f::Zero());
-  std::vector<bool> valid(n, false);
   const bool any = std::any_of(scan.valid.begin(), scan.valid.end(), [](bool v) { return v; });
   if (!any) return out;
-  // MRPT's arithmetic, so that the points are MRPT's to the bit (its 2D
-  // scan insertion into a points map and its sin/cos table of the rays):
-  // the ray angle accumulated in double from the first ray, its cos and sin
-  // rounded to float, the sensor pose's rotation and translation rounded to
-  // float, and x = t_x + (r·cos·R_xx + r·sin·R_xy) in float. Computing in
-  // double instead moves points by an ulp or two, and ICP-SLAM runs that
-  // match MRPT's to 1e-6 m can then take another gate schedule and part by
-  // centimeters (docs/icp-slam.md).
-  const Eigen::Matrix<float, 3, 2> Rf = R.leftCols<2>().cast<float>();
-  const Eigen::Vector3f tf = t.cast<float>();
-  const double step = (scan.right_to_left ? 1.0 : -1.0) * (scan.aperture / static_cast<double>(n - 1));
-  double angle = (scan.right_to_left ? -0.5 : 0.5) * scan.aperture;
-  for (std::size_t i = 0; i < n; ++i, angle += step) {
-    if (!scan.ray_yields_point(i)) continue;
-    const float r = scan.ranges[i];
-    const float xs = r * static_cast<float>(std::cos(angle));
-    const float ys = r * static_cast<float>(std::sin(angle));
-    for (int d = 0; d < 3; ++d) cand[i][d] = tf[d] + (xs * Rf(d, 0) + ys * Rf(d, 1));
-    valid[i] = true;
+  const Pose3 T = T_frame_robot + scan.T_robot_sensor;
+  std::vector<Eigen::Vector3f> cand(n, Eigen::Vector3f::Zero());
+  std::vector<bool> valid(n, false);
+  if (o.arithmetic == Arithmetic::Mrpt) {
+    mrpt_scan_candidates(scan, T, cand, valid);
+  } else {
+    // In double, rounded once: the scan's own ray angles (a single ray
+    // points at the aperture's first edge, as MRPT's).
+    const Eigen::Matrix3d R = T.rotation();
+    const Eigen::Vector3d t = T.translation();
+    const double first = (scan.right_to_left ? -0.5 : 0.5) * scan.aperture;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!scan.ray_yields_point(i)) continue;
+      const double angle = n >= 2 ? scan.ray_angle(i) : first;
+      const double r = scan.ranges[i];
+      cand[i] = (R.leftCols<2>() * Eigen::Vector2d(r * std::cos(angle), r * std::sin(angle)) + t)
+                    .cast<float>();
+      valid[i] = true;
+    }
   }
   mrpt_filter(cand, valid, o, o.also_interpolate, [&](const Eigen::Vector3f& p, int k) {
     out.push_back(p);
@@ -279,7 +275,7 @@ bool PointMap::insert(const RangeScan2D& scan, const Pose3& T_map_robot) {
   if (insertion_options.is_planar_map && !is_planar(scan.T_robot_sensor, insertion_options.horizontal_tolerance))
     return false;
   std::vector<int> rays;
-  const auto pts = detail::scan_points_mrpt(scan, T_map_robot, insertion_options, &rays);
+  const auto pts = detail::scan_points(scan, T_map_robot, insertion_options, &rays);
   if (insertion_options.fuse_with_existing) {
     fuse_points(pts, true);
   } else {
@@ -387,7 +383,7 @@ double PointMap::likelihood_of(const std::vector<Eigen::Vector3f>& p_robot, cons
 }
 
 double PointMap::log_likelihood(const RangeScan2D& scan, const Pose3& T_map_robot) const {
-  const auto pts = detail::scan_points_mrpt(scan, Pose3(), PointMapInsertionOptions{}, nullptr);
+  const auto pts = detail::scan_points(scan, Pose3(), PointMapInsertionOptions{}, nullptr);
   const auto ypr = T_map_robot.yaw_pitch_roll();
   return likelihood_of(pts, T_map_robot, ypr.pitch == 0.0 && ypr.roll == 0.0);
 }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <fstream>
 #include <limits>
@@ -123,6 +124,73 @@ TEST(GridInsertion, RayFreesCellsAndMarksHit) {
   RangeScan2D bad = straight_scan(2.0f);
   bad.ranges[1] = std::nanf("");
   EXPECT_TRUE(insert_scan(g, bad, Pose2()).inserted());  // NaN ray is skipped, not inserted
+}
+
+// Ground truth: a scan taken in a square room, ranges exact at the scan's
+// own ray angles (RangeScan2D::ray_angle). In the default arithmetic every
+// ray marks the cell of its true hit occupied; MRPT's geometry (rays spaced
+// aperture / N instead of aperture / (N − 1)) misses where its angles have
+// drifted from the true ones.
+TEST(GridInsertion, DefaultGeometryMarksTheTrueHitCells) {
+  const double half = 6.025;  // walls in the middle of 5 cm cells
+  const Pose2 pose(0.31, -0.22, 0.4);
+  RangeScan2D scan;
+  scan.aperture = 3.14159265358979323846;
+  std::vector<float> ranges(361, 1.0f);
+  scan.set_ranges(ranges);  // (ray_angle needs the ray count)
+  std::vector<Eigen::Vector2d> hits;
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    const double a = pose.phi() + scan.ray_angle(i);
+    const Eigen::Vector2d d(std::cos(a), std::sin(a));
+    const double tx = d.x() > 0 ? (half - pose.x()) / d.x() : (-half - pose.x()) / d.x();
+    const double ty = d.y() > 0 ? (half - pose.y()) / d.y() : (-half - pose.y()) / d.y();
+    const double r = std::min(std::abs(d.x()) > 1e-12 ? tx : 1e9, std::abs(d.y()) > 1e-12 ? ty : 1e9);
+    ranges[i] = static_cast<float>(r);
+    hits.push_back(pose.translation() + r * d);
+  }
+  scan.set_ranges(ranges);
+  std::size_t counted[2] = {0, 0};
+  for (const Arithmetic arithmetic : {Arithmetic::Double, Arithmetic::Mrpt}) {
+    OccupancyGrid g(-10, 10, -10, 10, 0.05f);
+    GridInsertionOptions o;
+    o.arithmetic = arithmetic;
+    ASSERT_TRUE(insert_scan(g, scan, pose, o).inserted());
+    std::size_t& n = counted[arithmetic == Arithmetic::Mrpt ? 1 : 0];
+    for (const auto& h : hits) n += g.free_probability_at(h.x(), h.y()) < 0.5f;
+  }
+  std::printf("true hit cells marked occupied: %zu of %zu (double), %zu (MRPT's geometry)\n",
+              counted[0], hits.size(), counted[1]);
+  EXPECT_GE(counted[0], hits.size() - 2);  // (a hit on a cell corner may round either way)
+  EXPECT_GT(counted[0], counted[1]);
+}
+
+// MRPT computes the occupied update 3·L in the cell type: above p ≈ 0.9 it
+// wraps around for int8 cells (p = 0.95: 3 × 47 = 141 → −115, and the cell
+// arithmetic wraps again). Only Arithmetic::Mrpt reproduces that; the
+// default saturates the strength at 127.
+TEST(GridInsertion, StrongOccupiedUpdateSaturatesUnlessMrpt) {
+  RangeScan2D scan;
+  scan.aperture = 0.1;
+  scan.set_ranges(std::vector<float>(3, 2.0f));
+  // Only the middle ray: in MRPT's geometry all three end in the same cell,
+  // and a second wrapped update would take it to the minimum anyway.
+  scan.valid = {false, true, false};
+  GridInsertionOptions o;
+  o.max_occupancy_update_certainty = 0.95f;
+  o.consider_invalid_ranges_as_free_space = false;
+  std::int8_t hit[2] = {0, 0};
+  for (const Arithmetic arithmetic : {Arithmetic::Double, Arithmetic::Mrpt}) {
+    OccupancyGrid g(-5, 5, -5, 5, 0.1f);
+    const auto at = g.index(g.x_to_idx(2.05), g.y_to_idx(0.05));
+    g.mutable_cells()[at] = 20;  // somewhat free before the hit
+    o.arithmetic = arithmetic;
+    ASSERT_TRUE(insert_scan(g, scan, Pose2(0.05, 0.05, 0.0), o).inserted());
+    hit[arithmetic == Arithmetic::Mrpt ? 1 : 0] = g.cells()[at];
+  }
+  EXPECT_EQ(hit[0], 20 - 127);  // saturated strength
+  // MRPT: 3·L = 135 held in int8 is −121, so the update is 20 − (−121),
+  // wrapped to −115: a strongly hit cell reads as free.
+  EXPECT_EQ(hit[1], static_cast<std::int8_t>(20 + 121));
 }
 
 TEST(GridOptions, LoadFromIniAndReportErrors) {

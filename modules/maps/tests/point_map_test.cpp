@@ -128,7 +128,7 @@ TEST(PointMap, LikelihoodPeaksAtTheTruePoseAndMatchesBruteForce) {
   const double at_off = map.log_likelihood(s, off);
   EXPECT_LT(at_off, at_truth);
   // brute force: default insertion options, decimation 10, XY distances
-  const auto pts = detail::scan_points_mrpt(s, Pose3(), PointMapInsertionOptions{}, nullptr);
+  const auto pts = detail::scan_points(s, Pose3(), PointMapInsertionOptions{}, nullptr);
   double sum = 0;
   int n = 0;
   for (std::size_t i = 0; i < pts.size(); i += 10, ++n) {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
+#include <fmt/format.h>
 
 #include "rove/core/check.h"
 
@@ -28,6 +29,14 @@ double point_to_plane_conditioning(std::span<const Eigen::Vector3d> points,
   }
   const auto ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(A).eigenvalues();
   return ev(5) > 0 ? std::max(ev(0), 0.0) / ev(5) : 0.0;
+}
+
+std::string degenerate_geometry_message(double conditioning, double threshold,
+                                        std::string_view example) {
+  return fmt::format(
+      "the matched geometry leaves a direction unconstrained (conditioning {:.3g} < {:.3g}, "
+      "e.g. {})",
+      conditioning, threshold, example);
 }
 
 }  // namespace rove

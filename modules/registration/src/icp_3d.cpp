@@ -13,6 +13,7 @@
 #include "rove/registration/degeneracy.h"
 #include "rove/core/parallel.h"
 #include "rove/registration/pose_covariance.h"
+#include "initial_guess.h"
 
 namespace rove {
 
@@ -432,11 +433,7 @@ void find_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
 Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
                    const Eigen::Isometry3d& initial, const Icp3dOptions& o) {
   o.check();
-  ROVE_CHECK_FINITE(initial.matrix());
-  ROVE_CHECK_MSG((initial.linear().transpose() * initial.linear() - Eigen::Matrix3d::Identity())
-                         .cwiseAbs()
-                         .maxCoeff() < 1e-6,
-                 "the initial transform is not rigid");
+  detail::check_rigid_initial(initial);
   ROVE_CHECK_MSG(o.method != Icp3dMethod::PointToPlane || target.has_normals() || target.empty(),
                  "point-to-plane ICP needs target normals (PrepareOptions::normals)");
   ROVE_CHECK_MSG(o.method != Icp3dMethod::Gicp ||
@@ -632,10 +629,8 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
 
   if (degenerate) {
     res.termination = RegistrationTermination::Degenerate;
-    res.message = fmt::format(
-        "the matched geometry leaves a direction unconstrained (conditioning {:.3g} < {:.3g}, "
-        "e.g. a single plane)",
-        res.conditioning, o.degeneracy_threshold);
+    res.message = degenerate_geometry_message(res.conditioning, o.degeneracy_threshold,
+                                              "a single plane");
   } else if (stalled) {
     res.termination = RegistrationTermination::Stalled;
     res.message = fmt::format(

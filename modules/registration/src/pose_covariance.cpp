@@ -42,18 +42,6 @@ template Eigen::Matrix<double, 3, 3> covariance_from_information<3>(const Eigen:
 template Eigen::Matrix<double, 6, 6> covariance_from_information<6>(
     const Eigen::Matrix<double, 6, 6>&, double, double, int*);
 
-Eigen::Matrix3d ypr_rate_to_omega(double yaw, double pitch) {
-  const double cy = std::cos(yaw), sy = std::sin(yaw);
-  const double cp = std::cos(pitch), sp = std::sin(pitch);
-  Eigen::Matrix3d E;
-  // Columns: d/dyaw rotates about the parent z; d/dpitch about Rz·y; d/droll
-  // about Rz·Ry·x (the chain rule of R = Rz·Ry·Rx under a left perturbation).
-  E.col(0) = Eigen::Vector3d(0, 0, 1);
-  E.col(1) = Eigen::Vector3d(-sy, cy, 0);
-  E.col(2) = Eigen::Vector3d(cy * cp, sy * cp, -sp);
-  return E;
-}
-
 Eigen::Matrix<double, 6, 6> ypr_jacobian_wrt_left_tangent(const Pose3& pose) {
   Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
   J.topLeftCorner<3, 3>().setIdentity();

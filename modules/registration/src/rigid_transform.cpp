@@ -7,6 +7,7 @@
 
 #include "rove/core/check.h"
 #include "rove/registration/pose_covariance.h"
+#include "rigid_fit_internal.h"
 
 namespace rove {
 namespace {
@@ -37,49 +38,52 @@ bool all_finite_input(std::span<const Vec> a, std::span<const Vec> b,
   return true;
 }
 
+/// The weight of pair i (1 when no weights are given).
+auto weight_of(std::span<const double> weights) {
+  return [weights](std::size_t i) { return weights.empty() ? 1.0 : weights[i]; };
+}
+
+/// The checks and centroids both fits start with: InvalidInput for a
+/// non-finite pair, TooFewCorrespondences below `min_pairs` positive weights
+/// (the result's termination and message say so; false is returned).
+template <int D, class Result>
+bool prepare_fit(std::span<const Eigen::Matrix<double, D, 1>> target,
+                 std::span<const Eigen::Matrix<double, D, 1>> source, std::span<const double> weights,
+                 const RigidFitOptions& options, std::size_t min_pairs, Result& r,
+                 detail::WeightedCentroids<D>& c) {
+  check_inputs(target.size(), source.size(), weights, options);
+  std::size_t bad = 0;
+  if (!all_finite_input(target, source, weights, bad)) {
+    r.message = fmt::format("pair {} has a non-finite coordinate or weight", bad);
+    return false;
+  }
+  c = detail::weighted_centroids<D>(
+      source.size(), [&](std::size_t i) { return source[i]; },
+      [&](std::size_t i) { return target[i]; }, weight_of(weights));
+  r.pairs = c.pairs;
+  if (r.pairs < min_pairs) {
+    r.termination = RegistrationTermination::TooFewCorrespondences;
+    r.message = fmt::format("{} pair(s) with positive weight; {} are needed", r.pairs, min_pairs);
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 RigidFit2Result fit_rigid_2d(std::span<const Eigen::Vector2d> target,
                              std::span<const Eigen::Vector2d> source,
                              std::span<const double> weights, const RigidFitOptions& options) {
-  check_inputs(target.size(), source.size(), weights, options);
   RigidFit2Result r;
-  std::size_t bad = 0;
-  if (!all_finite_input(target, source, weights, bad)) {
-    r.message = fmt::format("pair {} has a non-finite coordinate or weight", bad);
-    return r;
-  }
-  // Weighted centroids (Lu & Milios eq. 12).
-  double sw = 0;
-  Eigen::Vector2d cs = Eigen::Vector2d::Zero(), ct = Eigen::Vector2d::Zero();
-  for (std::size_t i = 0; i < source.size(); ++i) {
-    const double w = weights.empty() ? 1.0 : weights[i];
-    if (w <= 0.0) continue;
-    ++r.pairs;
-    sw += w;
-    cs += w * source[i];
-    ct += w * target[i];
-  }
-  if (r.pairs < 2) {
-    r.termination = RegistrationTermination::TooFewCorrespondences;
-    r.message = fmt::format("{} pair(s) with positive weight; 2 are needed", r.pairs);
-    return r;
-  }
-  cs /= sw;
-  ct /= sw;
-  // Rotation from the centered cross terms (eq. 13).
-  double s_dot = 0, s_cross = 0;
-  for (std::size_t i = 0; i < source.size(); ++i) {
-    const double w = weights.empty() ? 1.0 : weights[i];
-    if (w <= 0.0) continue;
-    const Eigen::Vector2d a = source[i] - cs, b = target[i] - ct;
-    s_dot += w * (a.x() * b.x() + a.y() * b.y());
-    s_cross += w * (a.x() * b.y() - a.y() * b.x());
-  }
-  const double phi = std::atan2(s_cross, s_dot);
-  const double c = std::cos(phi), s = std::sin(phi);
-  const Eigen::Vector2d t = ct - Eigen::Vector2d(c * cs.x() - s * cs.y(), s * cs.x() + c * cs.y());
-  const Pose2 mean(t.x(), t.y(), phi);
+  detail::WeightedCentroids<2> cen;
+  if (!prepare_fit<2>(target, source, weights, options, 2, r, cen)) return r;
+  const double sw = cen.weight_sum;
+  const Eigen::Vector2d cs = cen.source;
+  const Pose2 mean = detail::centered_rigid_fit_2d(
+      source.size(), [&](std::size_t i) { return source[i]; },
+      [&](std::size_t i) { return target[i]; }, weight_of(weights), cen);
+  const double c = std::cos(mean.phi()), s = std::sin(mean.phi());
+  const Eigen::Vector2d t = mean.translation();
 
   // Information Σ w JᵀJ with J = [I | R'·s] (d/dphi of R·s is the perpendicular of R·s).
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
@@ -127,30 +131,11 @@ RigidFit2Result fit_rigid_2d(std::span<const Eigen::Vector2d> target,
 RigidFit3Result fit_rigid_3d(std::span<const Eigen::Vector3d> target,
                              std::span<const Eigen::Vector3d> source,
                              std::span<const double> weights, const RigidFitOptions& options) {
-  check_inputs(target.size(), source.size(), weights, options);
   RigidFit3Result r;
-  std::size_t bad = 0;
-  if (!all_finite_input(target, source, weights, bad)) {
-    r.message = fmt::format("pair {} has a non-finite coordinate or weight", bad);
-    return r;
-  }
-  double sw = 0;
-  Eigen::Vector3d cs = Eigen::Vector3d::Zero(), ct = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < source.size(); ++i) {
-    const double w = weights.empty() ? 1.0 : weights[i];
-    if (w <= 0.0) continue;
-    ++r.pairs;
-    sw += w;
-    cs += w * source[i];
-    ct += w * target[i];
-  }
-  if (r.pairs < 3) {
-    r.termination = RegistrationTermination::TooFewCorrespondences;
-    r.message = fmt::format("{} pair(s) with positive weight; 3 are needed", r.pairs);
-    return r;
-  }
-  cs /= sw;
-  ct /= sw;
+  detail::WeightedCentroids<3> cen;
+  if (!prepare_fit<3>(target, source, weights, options, 3, r, cen)) return r;
+  const double sw = cen.weight_sum;
+  const Eigen::Vector3d cs = cen.source, ct = cen.target;
   // Umeyama 1991, eq. 38-40: Σ_xy = Σ w (t − t̄)(s − s̄)ᵀ = U D Vᵀ, R = U S Vᵀ.
   Eigen::Matrix3d Sigma = Eigen::Matrix3d::Zero();
   double radius2 = 0;

@@ -63,9 +63,9 @@ TEST(Ndt3d, RegressionConvergedAfterOneIterationWithoutReachingTheOptimum) {
   EXPECT_EQ(r.correspondences, src.size());
   EXPECT_LT(r.final_cost, 0.0);
   EXPECT_GT(r.information.determinant(), 0.0);
-  // PCL's rule, kept behind an option, still stops after one step.
+  // PCL's rule, kept behind NdtCompat::Pcl, still stops after one step.
   NdtOptions pcl;
-  pcl.convergence = NdtConvergence::Pcl;
+  pcl.compat = NdtCompat::Pcl;
   const auto p = ndt_3d(grid, src, Eigen::Isometry3d::Identity(), pcl);
   EXPECT_EQ(p.iterations, 1);
   EXPECT_TRUE(p.ok());

@@ -88,9 +88,6 @@ IcpSlamConfig load_icp_slam_config(const IniFile& ini) {
                          ini.line(kSec, unread.front()).value_or(0), kSec));
   }
   o.icp = Icp2dOptions::from_config(ConfigSection(ini, "ICP"));
-  // MRPT's icp-slam, reproduced: its single-precision closed-form fit
-  // unless the configuration asks for rove's double (fit_arithmetic).
-  if (!ini.has("ICP", "fit_arithmetic")) o.icp.fit_arithmetic = Icp2dFitArithmetic::MrptFloat;
 
   bool has_points = false, has_grid = false;
   for (const auto& e : cfg.map.entries()) {
@@ -131,6 +128,12 @@ IcpSlam::IcpSlam(IcpSlamOptions options, MultiMetricMap map)
   ROVE_CHECK_MSG(points_map_ != nullptr || (options_.match_against_the_grid && grid_map_),
                  "ICP-SLAM needs a point map in the multi-metric map (or a grid when "
                  "match_against_the_grid)");
+  // One arithmetic for the whole run (IcpSlamOptions::icp): the scans
+  // become points and are inserted into the grids as the ICP computes.
+  for (const auto& e : map_.entries()) {
+    if (auto* g = as_grid(e.map.get())) g->insert_options.arithmetic = options_.icp.arithmetic;
+    if (auto* p = as_points(e.map.get())) p->points().insertion_options.arithmetic = options_.icp.arithmetic;
+  }
 }
 
 IcpSlam::IcpSlam(IcpSlam&&) noexcept = default;
@@ -157,6 +160,7 @@ MetricMap* IcpSlam::match_map() const {
 const IcpTarget2D& IcpSlam::target() {
   if (target_revision_ == map_revision_) return target_;
   IcpTarget2DOptions to;
+  to.arithmetic = options_.icp.arithmetic;
   if (options_.icp.metric == Icp2dMetric::PointToLine) {
     to.normal_neighbors = options_.icp.normal_neighbors;
   }
@@ -235,6 +239,7 @@ IcpSlamUpdate IcpSlam::process(const std::shared_ptr<const Observation>& observa
     // map makes them (one point per 2 cm along the scan).
     PointMap sensed;
     sensed.insertion_options.min_dist_between_points = 0.02f;
+    sensed.insertion_options.arithmetic = options_.icp.arithmetic;
     const auto* scan = dynamic_cast<const RangeScan2D*>(&obs);
     const auto* image = dynamic_cast<const RangeImage3D*>(&obs);
     auto* grid = as_grid(matched);

@@ -14,6 +14,7 @@
 #include "icp_slam_test_util.h"
 #include "rove/core/error.h"
 #include "rove/core/ini.h"
+#include "rove/maps/metric_map_occupancy_grid.h"
 #include "rove/maps/metric_map_points.h"
 #include "rove/obs/range_scan_2d.h"
 #include "rove/slam/icp_slam_run.h"
@@ -34,8 +35,9 @@ struct SlamRun {
   std::vector<Pose2> path, odometry;
 };
 
-SlamRun run_config(const IniFile& ini) {
+SlamRun run_config(const IniFile& ini, Arithmetic arithmetic) {
   IcpSlamConfig cfg = load_icp_slam_config(ini);
+  cfg.options.icp.arithmetic = arithmetic;
   IcpSlam slam(cfg.options, std::move(cfg.map));
   SlamRun r;
   r.result = run_icp_slam(slam, telecom_rawlog());
@@ -53,7 +55,8 @@ SlamRun run_config(const IniFile& ini) {
 
 void expect_agrees_with_mrpt(const std::string& variant, double rmse_tol, double end_tol,
                              double step_tol, double step_ang_tol) {
-  const SlamRun r = run_config(IniFile::load(data_path("icp-slam_demo_" + variant + ".ini")));
+  const SlamRun r =
+      run_config(IniFile::load(data_path("icp-slam_demo_" + variant + ".ini")), Arithmetic::Mrpt);
   const auto mrpt = load_mrpt_path(reference_path("mrpt_icp_slam_" + variant + "_path.txt"));
   const auto mrpt_odo = load_mrpt_path(reference_path("mrpt_icp_slam_" + variant + "_odometry.txt"));
   const auto counts = test::load_counts(reference_path("mrpt_icp_slam_" + variant + "_counts.txt"));
@@ -99,11 +102,11 @@ void expect_agrees_with_mrpt(const std::string& variant, double rmse_tol, double
   EXPECT_GT(r.stats.icp_accepted, r.stats.icp_runs * 9 / 10);
 }
 
-// MRPT's run, reproduced: every one of the 224 poses equals MRPT's to the
-// 6 decimals of its log (rove computes in MRPT's arithmetic: the scan
-// points, the pairing, the fits, the thresholds; docs/icp-slam.md), and so
-// do the keyframes and the map's points.
-TEST(IcpSlam, ClassicDemoAgreesWithMrpt) {
+// MRPT's run, reproduced with Arithmetic::Mrpt: every one of the 224 poses
+// equals MRPT's to the 6 decimals of its log (rove computes in MRPT's
+// arithmetic: the scan points, the pairing, the fits, the thresholds;
+// docs/icp-slam.md), and so do the keyframes and the map's points.
+TEST(IcpSlamMrptCompat, ClassicDemoAgreesWithMrpt) {
   expect_agrees_with_mrpt("classic", 1e-6, 1e-6, 1e-5, 1e-5);
 }
 
@@ -112,15 +115,56 @@ TEST(IcpSlam, ClassicDemoAgreesWithMrpt) {
 // MRPT's CICP given MRPT's own map, scan and initial guess returns a fix
 // 6.5 cm away when the initial guess moves by 1e-7 m; only MRPT's
 // arithmetic to the bit reproduces its path.
-TEST(IcpSlam, LevenbergMarquardtDemoAgreesWithMrpt) {
+TEST(IcpSlamMrptCompat, LevenbergMarquardtDemoAgreesWithMrpt) {
   expect_agrees_with_mrpt("LM", 1e-6, 1e-6, 1e-5, 1e-5);
 }
 
-TEST(IcpSlam, ReproducesMrptsFitArithmeticUnlessTold) {
+// In rove's default arithmetic the run is not MRPT's to the bit, but it is
+// the same run: the loop closes where MRPT's does, the map is as large.
+// Measured: classic 0.012 m RMSE (worst step 0.077 m), LM 0.108 m (worst
+// 0.31 m); both end within 1.5 cm of MRPT's end pose.
+TEST(IcpSlam, DefaultArithmeticStaysNearMrptsPath) {
+  for (const std::string variant : {"classic", "LM"}) {
+    const SlamRun r =
+        run_config(IniFile::load(data_path("icp-slam_demo_" + variant + ".ini")), Arithmetic::Double);
+    const auto mrpt = load_mrpt_path(reference_path("mrpt_icp_slam_" + variant + "_path.txt"));
+    const auto counts = test::load_counts(reference_path("mrpt_icp_slam_" + variant + "_counts.txt"));
+    ASSERT_EQ(r.path.size(), mrpt.size());
+    const double rmse = test::position_rmse(r.path, mrpt);
+    double worst = 0;
+    for (std::size_t i = 0; i < mrpt.size(); ++i) worst = std::max(worst, r.path[i].distance_to(mrpt[i]));
+    std::printf("[%s, double] position RMSE vs MRPT: %.4f m (worst step %.4f m); end %s vs MRPT "
+                "%s; keyframes %zu (MRPT %g), points %zu (MRPT %g)\n",
+                variant.c_str(), rmse, worst, r.path.back().as_string().c_str(),
+                mrpt.back().as_string().c_str(), r.keyframes, counts.at("keyframes"), r.points,
+                counts.at("points"));
+    // (MRPT's LM steps are bistable: its paths part by tenths of meters
+    // between bistable steps and meet again, docs/icp-slam.md.)
+    EXPECT_LT(rmse, variant == "LM" ? 0.2 : 0.05) << variant;
+    EXPECT_LT(r.path.back().distance_to(mrpt.back()), 0.15) << variant;
+    EXPECT_NEAR(static_cast<double>(r.keyframes), counts.at("keyframes"), 5.0) << variant;
+    EXPECT_GT(r.stats.icp_accepted, r.stats.icp_runs * 9 / 10) << variant;
+  }
+}
+
+// The arithmetic is rove's double unless the configuration (or the caller)
+// says mrpt; IcpSlam gives it to the grids' scan insertion as well.
+TEST(IcpSlamConfig, ArithmeticIsDoubleUnlessTold) {
   IniFile ini = IniFile::load(data_path("icp-slam_demo_classic.ini"));
-  EXPECT_EQ(load_icp_slam_config(ini).options.icp.fit_arithmetic, Icp2dFitArithmetic::MrptFloat);
-  ini.set("ICP", "fit_arithmetic", "double");
-  EXPECT_EQ(load_icp_slam_config(ini).options.icp.fit_arithmetic, Icp2dFitArithmetic::Double);
+  EXPECT_EQ(load_icp_slam_config(ini).options.icp.arithmetic, Arithmetic::Double);
+  ini.set("ICP", "arithmetic", "mrpt");
+  ini.set("MappingApplication", "occupancyGrid_count", "1");
+  IcpSlamConfig cfg = load_icp_slam_config(ini);
+  EXPECT_EQ(cfg.options.icp.arithmetic, Arithmetic::Mrpt);
+  const IcpSlam slam(cfg.options, std::move(cfg.map));
+  bool grid = false;
+  for (const auto& e : slam.map().entries()) {
+    if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
+      EXPECT_EQ(g->insert_options.arithmetic, Arithmetic::Mrpt);
+      grid = true;
+    }
+  }
+  EXPECT_TRUE(grid);
 }
 
 TEST(IcpSlam, FirstScanInsertedAtOriginWithoutIcp) {
@@ -155,7 +199,7 @@ TEST(IcpSlam, FirstScanInsertedAtOriginWithoutIcp) {
   EXPECT_LT(std::abs(v.pose.phi()), 0.01);
 }
 
-TEST(IcpSlam, MatchingAgainstTheGridFollowsMrptPath) {
+TEST(IcpSlamMrptCompat, MatchingAgainstTheGridFollowsMrptPath) {
   // The classic demo matched against a 5 cm occupancy grid, as the "grid"
   // reference of make_reference.sh. On this log both tools drift when
   // matching against the grid (MRPT's own run does not close the loop: it
@@ -165,7 +209,7 @@ TEST(IcpSlam, MatchingAgainstTheGridFollowsMrptPath) {
   ini.set("MappingApplication", "matchAgainstTheGrid", "1");
   ini.set("MappingApplication", "occupancyGrid_count", "1");
   ini.set("MappingApplication_occupancyGrid_00_creationOpts", "resolution", "0.05");
-  const SlamRun r = run_config(ini);
+  const SlamRun r = run_config(ini, Arithmetic::Mrpt);
   const auto mrpt = load_mrpt_path(reference_path("mrpt_icp_slam_grid_path.txt"));
   ASSERT_EQ(r.path.size(), mrpt.size());
   const std::vector<Pose2> a(r.path.begin(), r.path.begin() + 40);

@@ -2,8 +2,7 @@
 /// \file
 /// Inserting 2D range scans into an occupancy grid by ray casting, with
 /// MRPT's algorithm, options and defaults (COccupancyGridMap2D::
-/// TInsertionOptions and internal_insertObservation), so that the cells
-/// agree with MRPT 2.5.8 exactly.
+/// TInsertionOptions and internal_insertObservation).
 ///
 /// Each ray marks the cells from the sensor to the hit as more likely free
 /// (fixed-point DDA with 9 fractional bits, as MRPT) and the hit cell as
@@ -11,12 +10,20 @@
 /// the triangle of the beam's angular width and the occupied area is the
 /// arc at its end (https://www.mrpt.org/Occupancy_Grids). The grid grows
 /// to hold the scan.
+///
+/// Where the rays end depends on GridInsertionOptions::arithmetic: by
+/// default (Double) each ray points at the scan's own angle
+/// (RangeScan2D::ray_angle) and ends at its range, computed in double; with
+/// Arithmetic::Mrpt the geometry is MRPT 2.5.8's to the bit (angles
+/// accumulated in float in steps of aperture / N, end points in float, and
+/// its int8 overflow of strong occupied updates), so the cells equal MRPT's.
 
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
 
+#include "rove/core/arithmetic.h"
 #include "rove/core/config_section.h"
 #include "rove/maps/occupancy_grid.h"
 #include "rove/obs/range_scan_2d.h"
@@ -61,6 +68,14 @@ struct GridInsertionOptions {
   /// `wideningBeamsWithDistance`: beams widen with distance (triangles)
   /// instead of thin rays.
   bool widening_beams_with_distance = false;
+  /// `arithmetic` (rove's key: double | mrpt): the ray geometry (file
+  /// comment). Double: the scan's ray angles, spaced aperture / (N − 1),
+  /// end points in double, and an occupied update that saturates at the
+  /// cell type's limit. Mrpt: MRPT's float geometry (rays spaced
+  /// aperture / N, so the last ray of a 361-ray 180° scan points 0.5° off
+  /// its true angle) and its int8 overflow of 3·L above p ≈ 0.9. Default
+  /// Double.
+  Arithmetic arithmetic = Arithmetic::Double;
 
   /// Reads the keys present in `section` (missing keys keep their values).
   /// Throws ConfigError (file, section, key) on a malformed value or one

@@ -31,7 +31,10 @@
 /// - kMeanInformation: MI_exponent · ln(mean information of the cells the
 ///   scan would update, over MI_ratio_max_distance × maxDistanceInsertion).
 ///
-/// Differences from MRPT 2.5.8, where MRPT's result is not usable: MRPT's
+/// Differences from MRPT 2.5.8 by default (GridLikelihoodOptions::arithmetic
+/// Mrpt removes the first): the comparison grid of kCellsDifference and the
+/// cells of kMeanInformation come from rove's double-precision insertion
+/// (grid_insertion.h). Where MRPT's result is not usable: MRPT's
 /// consensus-OWA returns 1e−3 for every 2D scan and its mean-information
 /// method returns −inf (and inserts the scan into the grid); rove computes
 /// what both methods describe (above). Points far outside the grid, which
@@ -109,6 +112,14 @@ struct GridLikelihoodOptions {
   /// `enableLikelihoodCache`: accepted for compatibility; rove always
   /// precomputes the likelihood field (same values).
   bool enable_likelihood_cache = true;
+  /// `arithmetic` (rove's key: double | mrpt): the scan insertion behind
+  /// kCellsDifference (its comparison grid) and kMeanInformation (the cells
+  /// a scan would update) runs in this arithmetic (GridInsertionOptions::
+  /// arithmetic). Mrpt reproduces MRPT's numbers, including the int8
+  /// overflow of the comparison grid's p = 0.95 occupied update; Double
+  /// saturates it and casts the rays at the scan's own angles. Default
+  /// Double.
+  Arithmetic arithmetic = Arithmetic::Double;
 
   /// Reads the keys present in `section`. Throws ConfigError (file,
   /// section, key) on malformed values or values check() rejects.
@@ -180,8 +191,6 @@ class GridLikelihoodModel {
  private:
   void check_fresh() const;
   double eval_one(const PreparedGridScan& s, const Pose2& pose) const;
-  double likelihood_field(const PreparedGridScan& s, double x0, double y0, double c,
-                          double sn) const;
 
   const OccupancyGridT<Cell>* grid_;
   GridLikelihoodOptions options_;

@@ -15,6 +15,12 @@
 /// and whose direction changes by less than 5°, round(d / (2·min_dist)) − 1
 /// evenly spaced points are added. With is_planar_map, a scan whose sensor
 /// pitch or roll exceeds horizontal_tolerance is not inserted.
+/// The points' arithmetic is PointMapInsertionOptions::arithmetic: by
+/// default p_i = R·(r_i cos θ_i, r_i sin θ_i, 0) + t in double, θ_i the
+/// scan's own ray angle (RangeScan2D::ray_angle), rounded to float once;
+/// Arithmetic::Mrpt gives MRPT 2.5.8's points to the bit (point_map_mrpt.cpp:
+/// cos and sin rounded to float, the sensor pose rounded to float, the sums
+/// in float).
 ///
 /// Insertion of a RangeImage3D: pixels are visited in row-major order; a
 /// valid pixel gives its projected point (RangeImage3D::project), an invalid
@@ -37,6 +43,7 @@
 #include <mutex>
 #include <optional>
 
+#include "rove/core/arithmetic.h"
 #include "rove/core/config_section.h"
 #include "rove/maps/kdtree.h"
 #include "rove/maps/point_cloud.h"
@@ -61,12 +68,17 @@ struct PointMapInsertionOptions {
   float horizontal_tolerance = static_cast<float>(0.05 * 3.14159265358979323846 / 180.0);
   float max_dist_for_interpolate = 2.0f;     ///< meters (`maxDistForInterpolatePoints`)
   bool insert_invalid_points = false;        ///< `insertInvalidPoints`
+  /// `arithmetic` (rove's key: double | mrpt): how a 2D scan's points are
+  /// computed (file comment). Double: in double, rounded once. Mrpt:
+  /// MRPT's float arithmetic, so that the points are MRPT's to the bit.
+  /// Default Double.
+  Arithmetic arithmetic = Arithmetic::Double;
 
   /// MRPT's CPointsMap::TInsertionOptions keys present in `section`
   /// (`minDistBetweenLaserPoints`, `horizontalTolerance` in degrees,
   /// `addToExistingPointsMap`, `also_interpolate`, `disableDeletion`,
   /// `fuseWithExisting`, `isPlanarMap`, `maxDistForInterpolatePoints`,
-  /// `insertInvalidPoints`) over MRPT's defaults.
+  /// `insertInvalidPoints`, and rove's `arithmetic`) over MRPT's defaults.
   static PointMapInsertionOptions from_config(const ConfigSection& section);
 };
 
@@ -161,11 +173,12 @@ class PointMap {
 };
 
 namespace detail {
-/// The points of a 2D scan in the frame of T_frame_robot, filtered with
-/// MRPT's loadFromRangeScan rules (see the file comment); `ray_of` receives
-/// each point's ray index (-1 for interpolated points).
-std::vector<Eigen::Vector3f> scan_points_mrpt(const RangeScan2D& scan, const Pose3& T_frame_robot,
-                                              const PointMapInsertionOptions& o, std::vector<int>* ray_of);
+/// The points of a 2D scan in the frame of T_frame_robot, computed in
+/// o.arithmetic and filtered with MRPT's loadFromRangeScan rules (see the
+/// file comment); `ray_of` receives each point's ray index (-1 for
+/// interpolated points).
+std::vector<Eigen::Vector3f> scan_points(const RangeScan2D& scan, const Pose3& T_frame_robot,
+                                         const PointMapInsertionOptions& o, std::vector<int>* ray_of);
 /// The colour of each point (map frame) of `scan` taken with the robot at
 /// T_map_robot: the pixel of the intensity image it projects to (black when
 /// behind the camera, outside the image, or without an intensity image).

@@ -13,6 +13,8 @@
 /// sampling for the ICP algorithm", 3DIM 2003, Sec. 3).
 
 #include <span>
+#include <string>
+#include <string_view>
 
 #include <Eigen/Core>
 
@@ -23,5 +25,10 @@ namespace rove {
 /// Precondition: points.size() == normals.size().
 double point_to_plane_conditioning(std::span<const Eigen::Vector3d> points,
                                    std::span<const Eigen::Vector3d> normals);
+
+/// The message of a Degenerate termination: "the matched geometry leaves a
+/// direction unconstrained (conditioning c < threshold, e.g. <example>)".
+std::string degenerate_geometry_message(double conditioning, double threshold,
+                                        std::string_view example);
 
 }  // namespace rove

@@ -5,7 +5,10 @@
 /// map or the occupied cells of a grid), from an initial guess.
 ///
 /// Semantics follow MRPT's CICP (icpClassic, icpLevenbergMarquardt) and its
-/// [ICP] configuration section, so an ICP-SLAM config runs unchanged:
+/// [ICP] configuration section, so an ICP-SLAM config runs unchanged. The
+/// arithmetic is rove's double precision unless Icp2dOptions::arithmetic is
+/// Arithmetic::Mrpt, which reproduces MRPT 2.5.8's runs to the bit
+/// (docs/conventions.md, "MRPT and PCL compatibility"):
 ///  - each iteration pairs every `corresponding_points_decimation`-th source
 ///    point (starting at a rotating offset) with its nearest target point if
 ///    their distance is below thresholdDist + thresholdAng·‖p − pivot‖, p the
@@ -46,6 +49,7 @@
 
 #include <Eigen/Core>
 
+#include "rove/core/arithmetic.h"
 #include "rove/core/config_section.h"
 #include "rove/math/robust_kernel.h"
 #include "rove/poses/pdf_gaussian2.h"
@@ -60,14 +64,16 @@ namespace rove {
 enum class IcpAlgorithm {
   /// icpClassic: closed form (or one GN step) per pairing.
   Classic,
-  /// icpLevenbergMarquardt, as MRPT computes it: point-to-point only; per
+  /// icpLevenbergMarquardt, MRPT's method: point-to-point only; per
   /// pairing, the gradient of the kernelized squared distances by finite
   /// differences of step Axy_aprox_derivatives (the x part from nearest-map-
   /// point distances), then damped steps on the fixed gradient with λ ÷ 10
   /// on a lower sum of squared distances and λ × 10 otherwise, until the
   /// step is below minAbsStep (at most 99 steps). The pairing gate widens
   /// with the distance from the target frame's origin (MRPT's pivot for this
-  /// method), not from the current pose.
+  /// method), not from the current pose. With Arithmetic::Mrpt the gradient,
+  /// its products and the 3×3 inverse are MRPT's float computations in
+  /// MRPT's order of evaluation.
   LevenbergMarquardt,
   /// (icpRobustLevenbergMarquardt; rove) Levenberg–Marquardt on ½Σρ(r²) of
   /// the pairs with an analytic Jacobian, Nielsen's damping update and the
@@ -80,20 +86,6 @@ enum class IcpAlgorithm {
 enum class Icp2dMetric {
   PointToPoint,  ///< ‖T·s − t‖² (MRPT)
   PointToLine,   ///< (nᵀ(T·s − t))², n the target normal (needs target normals)
-};
-
-/// The arithmetic of icpClassic's closed-form point-to-point fit.
-enum class Icp2dFitArithmetic {
-  /// Double precision about the pairs' centroids (rove's default).
-  Double,
-  /// MRPT's tfest::se2_l2 to the bit: raw sums of the coordinates and of
-  /// their products in single precision, in pair order, then
-  /// Ax = N·(Σxa·xb + Σya·yb) − Σxa·Σxb − Σya·Σyb and
-  /// Ay = Σxa·Σyb + N·(Σya·xb − Σxa·yb) − Σxb·Σya, φ = atan2(Ay, Ax) in
-  /// double. Its rounding noise (about 1e-5 relative near the origin,
-  /// growing with the distance to it) decides when MRPT's gate shrinks, so
-  /// a run of MRPT's icp-slam is reproduced step by step only with it.
-  MrptFloat,
 };
 
 /// How the covariance is computed (MRPT's ICP_covariance_method).
@@ -111,10 +103,17 @@ struct Icp2dOptions {
   IcpAlgorithm algorithm = IcpAlgorithm::Classic;
   /// (metric: point_to_point | point_to_line; rove). Default PointToPoint.
   Icp2dMetric metric = Icp2dMetric::PointToPoint;
-  /// (fit_arithmetic: double | mrpt_float; rove) the arithmetic of the
-  /// classic point-to-point fit (see Icp2dFitArithmetic). Default Double;
-  /// `rove icp-slam` defaults to MrptFloat (load_icp_slam_config).
-  Icp2dFitArithmetic fit_arithmetic = Icp2dFitArithmetic::Double;
+  /// (arithmetic: double | mrpt; rove) Double: rove's double precision
+  /// (centered closed-form fit, gates and distances in double). Mrpt:
+  /// MRPT 2.5.8's arithmetic to the bit, so that a run reproduces MRPT's
+  /// step by step: the option values MRPT reads with read_float rounded to
+  /// float; both gates kept and shrunk in float; the source points moved in
+  /// float, (x₀ + cos·x) − sin·y, and searched in the target's float tree
+  /// (the target must be built with Arithmetic::Mrpt); icpClassic's fit is
+  /// MRPT's tfest::se2_l2 in single precision (raw, uncentered sums in pair
+  /// order, whose rounding grows with the distance from the origin);
+  /// MRPT's LM in its float order; the goodness in float. Default Double.
+  Arithmetic arithmetic = Arithmetic::Double;
   /// (ICP_covariance_method: icpCovLinealMSE | icpCovFiniteDifferences).
   /// Default FiniteDifferences (MRPT's default).
   IcpCovarianceMethod covariance_method = IcpCovarianceMethod::FiniteDifferences;
@@ -228,8 +227,9 @@ struct Icp2dResult {
 
 /// Registers `source` (meters, source frame; non-finite points are skipped)
 /// against `target` starting from `initial_T_target_source`.
-/// Preconditions (InvalidArgument): options.check() passes; point-to-line
-/// needs target.has_normals(). Empty inputs give InvalidInput.
+/// Preconditions (InvalidArgument): options.check() passes; the target was
+/// built with the same arithmetic; point-to-line needs target.has_normals().
+/// Empty inputs give InvalidInput.
 Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
                    const Pose2& initial_T_target_source, const Icp2dOptions& options = {});
 

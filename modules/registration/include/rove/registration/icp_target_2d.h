@@ -10,11 +10,13 @@
 /// may share one target concurrently.
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "rove/core/arithmetic.h"
 #include "rove/maps/kdtree.h"
 #include "rove/maps/occupancy_grid.h"
 #include "rove/maps/point_cloud_concept.h"
@@ -31,6 +33,12 @@ struct IcpTarget2DOptions {
   /// when its probability of being free is below this (MRPT's
   /// determineMatching2D uses 0.5). In (0, 1]. Default 0.5.
   float occupied_below_free_probability = 0.5f;
+  /// The arithmetic of the ICP runs that will use the target (it must equal
+  /// their Icp2dOptions::arithmetic). Double: the points as given, searched
+  /// in double. Mrpt: the points rounded to float as MRPT's point maps hold
+  /// them, searched by a float KD-tree whose squared distances are MRPT's
+  /// (nanoflann's) to the bit. Default Double.
+  Arithmetic arithmetic = Arithmetic::Double;
 };
 
 /// The reference side of 2D ICP. See the file comment.
@@ -38,8 +46,9 @@ class IcpTarget2D {
  public:
   /// An empty target (every match fails with TooFewCorrespondences).
   IcpTarget2D();
-  /// Indexes the finite points of `points` (meters, map frame), rounded to
-  /// float as MRPT's point maps hold them; non-finite points are dropped.
+  /// Indexes the finite points of `points` (meters, map frame; rounded to
+  /// float with Arithmetic::Mrpt); non-finite points, and with Mrpt those
+  /// beyond float's range, are dropped.
   /// Preconditions (InvalidArgument): options valid.
   explicit IcpTarget2D(std::vector<Eigen::Vector2d> points, const IcpTarget2DOptions& options = {});
   /// The x, y of every point of a cloud.
@@ -68,24 +77,40 @@ class IcpTarget2D {
   std::size_t size() const noexcept { return points_.size(); }
   /// True when there is no point.
   bool empty() const noexcept { return points_.empty(); }
-  /// The indexed points, meters (finite only, float values).
+  /// The indexed points, meters (finite only; float values with
+  /// Arithmetic::Mrpt).
   const std::vector<Eigen::Vector2d>& points() const noexcept { return points_; }
-  /// The KD-tree over points() (indices refer to points()), searched in
-  /// float arithmetic as MRPT's KD-tree over its point maps: the same
-  /// nearest point and the same squared distance, to the bit.
-  const KdTree2f& tree() const noexcept { return tree_; }
+  /// The arithmetic the target was built for (IcpTarget2DOptions).
+  Arithmetic arithmetic() const noexcept { return options_.arithmetic; }
+  /// The KD-tree over points() in double (indices refer to points()).
+  /// Empty unless arithmetic() is Double.
+  const KdTree2d& tree() const noexcept { return tree_; }
+  /// The KD-tree over points() in float, searched as MRPT's KD-tree over its
+  /// point maps: the same nearest point and the same squared distance, to
+  /// the bit. Empty unless arithmetic() is Mrpt.
+  const KdTree2f& mrpt_tree() const noexcept { return mrpt_tree_; }
+  /// Calls f(tree()) or f(mrpt_tree()), whichever the arithmetic built.
+  template <typename F>
+  decltype(auto) with_tree(F&& f) const {
+    return options_.arithmetic == Arithmetic::Mrpt ? f(mrpt_tree_) : f(tree_);
+  }
   /// True when normals were computed.
   bool has_normals() const noexcept { return !normals_.empty(); }
   /// Unit normals, one per point (empty unless has_normals()). A point whose
   /// neighbourhood is degenerate (all neighbours equal) gets (0, 0).
   std::span<const Eigen::Vector2d> normals() const noexcept { return normals_; }
+  /// The unit normal at point i: normals()[i] when has_normals(), else
+  /// fitted as estimate_normals_2d does over the k nearest points ((0, 0)
+  /// when they have no extent). Preconditions: i < size(), k ≥ 2.
+  Eigen::Vector2d normal_at(std::uint32_t i, std::size_t k) const;
   /// The options the target was built with.
   const IcpTarget2DOptions& options() const noexcept { return options_; }
 
  private:
   std::vector<Eigen::Vector2d> points_;
   std::vector<Eigen::Vector2d> normals_;
-  KdTree2f tree_;
+  KdTree2d tree_;
+  KdTree2f mrpt_tree_;
   IcpTarget2DOptions options_;
 };
 
@@ -94,9 +119,14 @@ class IcpTarget2D {
 /// of the neighbourhood covariance, (0, 0) when the neighbourhood has no
 /// extent. Preconditions: k ≥ 2; num_threads in [0, kMaxThreads] (0: all
 /// hardware threads).
+template <typename Scalar>
 std::vector<Eigen::Vector2d> estimate_normals_2d(std::span<const Eigen::Vector2d> points,
-                                                 const KdTree2f& tree, std::size_t k,
+                                                 const KdTree<2, Scalar>& tree, std::size_t k,
                                                  int num_threads = 1);
+extern template std::vector<Eigen::Vector2d> estimate_normals_2d(
+    std::span<const Eigen::Vector2d>, const KdTree<2, float>&, std::size_t, int);
+extern template std::vector<Eigen::Vector2d> estimate_normals_2d(
+    std::span<const Eigen::Vector2d>, const KdTree<2, double>&, std::size_t, int);
 
 extern template IcpTarget2D IcpTarget2D::from_grid(const OccupancyGridT<std::int8_t>&,
                                                    const IcpTarget2DOptions&);

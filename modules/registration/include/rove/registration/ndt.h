@@ -16,23 +16,28 @@
 ///    Hessian (eq. 6.12-6.13, 6.17-6.21);
 ///  - each Newton direction is searched with the Moré–Thuente line search
 ///    ("Line search algorithms with guaranteed sufficient decrease", ACM
-///    TOMS 1994), step length in [transformation_epsilon/2, step_size];
-///  - the run converges (NdtConvergence::NewtonStep, the default) when the
-///    score has a maximum at the estimate (its Hessian is negative definite)
-///    and the full Newton step to it is within translation_tolerance and
-///    rotation_tolerance; it ends MaxIterations at the cap and Stalled when no
-///    step along the Newton direction raises the score. PCL's own rule
-///    (NdtConvergence::Pcl: a taken step's translation² ≤
-///    transformation_epsilon) is kept for parity: with PCL's defaults (0.1 m²,
-///    steps of at most 0.1) it holds after the first step wherever that ends,
-///    so it says nothing about the optimum.
-/// 3D parameters are PCL's (x, y, z, roll, pitch, yaw) with R = Rx·Ry·Rz;
-/// 2D parameters are (x, y, phi).
+///    TOMS 1994), step length at most step_size.
+/// By default (NdtCompat::None) the Newton steps perturb the pose locally,
+/// R ← Exp(ω)·R, t ← t + ρ (rotation about the sensor's position with the
+/// target's axes; 2D: θ ← θ + ω), with the exact gradient and Hessian of the
+/// score: no Euler angles, so no gimbal lock; the run converges when the score has a
+/// maximum at the estimate (its Hessian is negative definite) and the full
+/// Newton step to it is within translation_tolerance and rotation_tolerance;
+/// it ends MaxIterations at the cap and Stalled when no step along the
+/// Newton direction raises the score. NdtCompat::Pcl reproduces PCL instead
+/// (ndt_pcl.cpp): its (x, y, z, roll, pitch, yaw) parameters with
+/// R = Rx·Ry·Rz (2D: x, y, phi), its rule (a taken step's translation² ≤
+/// transformation_epsilon: with PCL's defaults, 0.1 m² and steps of at most
+/// 0.1, it holds after the first step wherever that ends, so it says nothing
+/// about the optimum), its shortest line-search step transformation_epsilon/2
+/// and its steps taken even when they lower the score.
 ///
-/// Covariance of the result: (−H)⁻¹, H the score Hessian at the result,
-/// converted to (x, y, z, yaw, pitch, roll) (Pose2: x, y, phi). The NDT score
-/// is a likelihood only up to the scale of d₁, d₂, so read it as a shape,
-/// not as calibrated metres.
+/// Uncertainty of the result, in either mode: information −H, H the score
+/// Hessian at the result, and covariance (−H)⁻¹, over the right tangent
+/// (ρ, ω) (docs/conventions.md); the Gaussian of the result gives the
+/// covariance over (x, y, z, yaw, pitch, roll) (Pose2: x, y, phi). The NDT
+/// score is a likelihood only up to the scale of d₁, d₂, so read it as a
+/// shape, not as calibrated metres.
 
 #include <cstddef>
 #include <cstdint>
@@ -139,16 +144,18 @@ using NdtGrid2D = NdtGrid<2>;
 extern template class NdtGrid<2>;
 extern template class NdtGrid<3>;
 
-/// What ends an NDT run as Converged.
-enum class NdtConvergence {
-  /// The score has a maximum at the estimate and the full Newton step to it
+/// Which NDT runs: rove's, or PCL's for parity with it (file comment).
+enum class NdtCompat {
+  /// Newton steps on a local perturbation of the pose; converged when the
+  /// score has a maximum at the estimate and the full Newton step to it
   /// (before the step_size cap) is within translation_tolerance and
-  /// rotation_tolerance.
-  NewtonStep,
-  /// PCL 1.13's rule, for parity with it: a taken step's translation² ≤
-  /// transformation_epsilon (and, when set, cos(its rotation) ≥
-  /// transformation_rotation_epsilon); a zero step also counts. Not a test
-  /// of the optimum: with PCL's defaults it holds after the first step.
+  /// rotation_tolerance; a step that does not raise the score is not taken.
+  None,
+  /// PCL 1.13's NormalDistributionsTransform: Euler parameters (x, y, z,
+  /// roll, pitch, yaw), R = Rx·Ry·Rz (2D: x, y, phi); converged when a taken
+  /// step's translation² ≤ transformation_epsilon (and, when set, cos(its
+  /// rotation) ≥ transformation_rotation_epsilon) or a step is zero. Not a
+  /// test of the optimum: with PCL's defaults it holds after the first step.
   Pcl,
 };
 
@@ -156,16 +163,16 @@ enum class NdtConvergence {
 struct NdtOptions {
   /// Largest Moré–Thuente step (in parameter units), > 0. Default 0.1 (PCL).
   double step_size = 0.1;
-  /// The convergence test. Default NewtonStep.
-  NdtConvergence convergence = NdtConvergence::NewtonStep;
-  /// NewtonStep: the largest translation of the Newton step at a converged
+  /// rove's NDT or PCL's. Default None (rove's).
+  NdtCompat compat = NdtCompat::None;
+  /// None: the largest translation of the Newton step at a converged
   /// estimate, m, ≥ 0. Default 1e-3.
   double translation_tolerance = 1e-3;
-  /// NewtonStep: the largest rotation of the Newton step at a converged
+  /// None: the largest rotation of the Newton step at a converged
   /// estimate, rad, ≥ 0. Default 1e-3 (0.057°).
   double rotation_tolerance = 1e-3;
   /// Pcl: converged when a step's translation² ≤ this (m²); also the
-  /// line search's shortest step × 2, as in PCL. ≥ 0. Default 0.1 (PCL's NDT
+  /// line search's shortest step × 2, as in PCL. Unused by None. ≥ 0. Default 0.1 (PCL's NDT
   /// default; its tutorial uses 0.01).
   double transformation_epsilon = 0.1;
   /// Pcl: if > 0, convergence also needs cos(step rotation) ≥ this. In
@@ -205,9 +212,8 @@ struct Ndt3dResult {
   double final_cost = 0.0;
   /// Source points with at least one cell within `resolution` at the result.
   std::size_t correspondences = 0;
-  /// −H, the negated score Hessian at the result, over PCL's parameters
-  /// (x, y, z, roll, pitch, yaw), R = Rx·Ry·Rz; positive definite at a
-  /// maximum.
+  /// −H, the negated score Hessian at the result, over the right tangent
+  /// (ρ, ω); positive definite at a maximum.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
   /// Newton iterations (steps taken).
   int iterations = 0;
@@ -229,7 +235,7 @@ struct Ndt2dResult {
   double fitness = 0.0;
   double final_cost = 0.0;
   std::size_t correspondences = 0;
-  /// −H over (x, y, phi).
+  /// −H over the right tangent (ρx, ρy, θ).
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
   int iterations = 0;
   double conditioning = 0.0;

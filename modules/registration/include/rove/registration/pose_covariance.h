@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "rove/poses/lie_conversion.h"  // ypr_rate_to_omega
 #include "rove/poses/pose3.h"
 
 namespace rove {
@@ -20,11 +21,6 @@ template <int N>
 Eigen::Matrix<double, N, N> covariance_from_information(const Eigen::Matrix<double, N, N>& H,
                                                         double scale, double relative_floor,
                                                         int* unconstrained = nullptr);
-
-/// E(yaw, pitch): the matrix with ω = E·(ẏaw, ṗitch, ṙoll)ᵀ, ω the rotation
-/// rate in the parent frame (left perturbation R ← exp([δω]ₓ)·R) for
-/// R = Rz(yaw)·Ry(pitch)·Rx(roll). Its columns are e_z, Rz·e_y, Rz·Ry·e_x.
-Eigen::Matrix3d ypr_rate_to_omega(double yaw, double pitch);
 
 /// The Jacobian d(x, y, z, yaw, pitch, roll) / d(δt, δω) at `pose` for the
 /// left perturbation T ← (exp([δω]ₓ)·R, t + δt). Near gimbal lock

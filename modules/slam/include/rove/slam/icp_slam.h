@@ -67,7 +67,13 @@ struct IcpSlamOptions {
   double localization_ang_distance = 30.0 * 3.14159265358979323846 / 180.0;
   /// (minICPgoodnessToAccept) in [0, 1]. Default 0.4.
   double min_icp_goodness_to_accept = 0.4;
-  /// The [ICP] section.
+  /// The [ICP] section. Its `arithmetic` is the arithmetic of the whole
+  /// run: Arithmetic::Mrpt (key `arithmetic = mrpt`, or `rove icp-slam
+  /// --arithmetic mrpt`) reproduces MRPT 2.5.8's icp-slam to the bit — the
+  /// ICP, its target, the scans' points and their insertion into the map
+  /// (IcpSlam sets the PointMapInsertionOptions::arithmetic of its point
+  /// maps and the GridInsertionOptions::arithmetic of its grids); the default
+  /// Double is rove's double precision throughout.
   Icp2dOptions icp;
   /// Pose prediction (not in MRPT's files; MRPT's defaults).
   RobotPoseEstimator2DOptions prediction;
