@@ -47,6 +47,34 @@ void descend(const GridSearchSpace& s, const std::vector<Wave>& wave, GridCellIn
   }
 }
 
+// True when a chain of moves joins a and b (a flood fill from a, using
+// `mark` as its visited flags and leaving it all zero). The sweeps below
+// would find the same in time proportional to the map's size times its
+// width; this takes one pass.
+bool connected(const GridSearchSpace& s, GridCellIndex a, GridCellIndex b, std::vector<Wave>& mark) {
+  const NavigationGrid& g = s.grid();
+  std::vector<std::uint32_t> queue{static_cast<std::uint32_t>(g.index(a.x, a.y))};
+  mark[queue.front()] = 1;
+  const std::size_t target = g.index(b.x, b.y);
+  bool found = false;
+  std::size_t counter = 0;
+  for (std::size_t head = 0; head < queue.size() && !found; ++head) {
+    poll_interrupt(counter);
+    const std::uint32_t i = queue[head];
+    const int x = static_cast<int>(i % g.size_x()), y = static_cast<int>(i / g.size_x());
+    for (int k = 0; k < 8; ++k) {
+      if (!s.can_move(x, y, k)) continue;
+      const std::size_t j = g.index(x + kMoveDx[k], y + kMoveDy[k]);
+      if (mark[j] != 0) continue;
+      mark[j] = 1;
+      queue.push_back(static_cast<std::uint32_t>(j));
+      found = found || j == target;
+    }
+  }
+  for (const std::uint32_t i : queue) mark[i] = 0;
+  return found;
+}
+
 }  // namespace
 
 std::vector<GridCellIndex> value_iteration_search(const GridSearchSpace& s, GridCellIndex start,
@@ -55,6 +83,7 @@ std::vector<GridCellIndex> value_iteration_search(const GridSearchSpace& s, Grid
   const NavigationGrid& g = s.grid();
   const int nx = static_cast<int>(g.size_x()), ny = static_cast<int>(g.size_y());
   std::vector<Wave> wave(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0);
+  if (!connected(s, start, goal, wave)) return {};
   wave[g.index(start.x, start.y)] = 1;
   wave[g.index(goal.x, goal.y)] = -1;
   int x0 = std::min(start.x, goal.x) - 1, x1 = std::max(start.x, goal.x) + 1;
