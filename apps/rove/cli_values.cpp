@@ -127,4 +127,12 @@ Pose2 parse_cli_pose2(std::string_view text, std::string_view option) {
                     fmt::format("expected x,y,yaw (meters, degrees), got {} values", v.size()));
 }
 
+Pose2 parse_cli_position_or_pose2(std::string_view text, std::string_view option) {
+  const std::vector<double> v = pose_values(text, option);
+  if (v.size() == 2) return Pose2(v[0], v[1], 0.0);
+  if (v.size() == 3) return Pose2(v[0], v[1], v[2]);
+  throw value_error(option, fmt::format("expected x,y or x,y,yaw (meters, degrees), got {} values",
+                                        v.size()));
+}
+
 }  // namespace rove::cli

@@ -27,4 +27,7 @@ Pose3 parse_cli_pose3(std::string_view text, std::string_view option);
 /// A 2D pose: "x,y,yaw" (or MRPT's "[x y yaw]"); yaw as in parse_cli_pose3.
 Pose2 parse_cli_pose2(std::string_view text, std::string_view option);
 
+/// A 2D position "x,y" (heading 0) or a pose "x,y,yaw" as parse_cli_pose2.
+Pose2 parse_cli_position_or_pose2(std::string_view text, std::string_view option);
+
 }  // namespace rove::cli

@@ -34,5 +34,8 @@ void add_eval_command(CLI::App& app);
 /// `rove octomap build INPUT... -o MAP.bt [--res R] [--poses TRAJ] [--json]`:
 /// a 3D occupancy octree (OctoMap's .bt/.ot) from point clouds.
 void add_octomap_command(CLI::App& app);
+/// `rove nav plan MAP --start x,y --goal x,y -o PATH.tum`: grid path planning
+/// for a disc robot.
+void add_nav_command(CLI::App& app);
 
 }  // namespace rove::cli

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "grid_input.h"
 #include "report.h"
 #include "rove/core/error.h"
 #include "rove/core/files.h"
@@ -31,11 +32,6 @@ namespace rove::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool ends_with_ci(std::string s, std::string_view suffix) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s.ends_with(suffix);
-}
 
 // One line on a grid's entropy and information (grid_entropy.h).
 std::string entropy_line(const OccupancyGrid& grid) {
@@ -193,48 +189,6 @@ void run_map_build(const MapBuildArgs& a) {
   for (const auto& f : files) fmt::print("  wrote {}\n", printable(f));
   if (!issues.empty()) fmt::print("  {} issue{} (below)\n", issues.size(), issues.size() == 1 ? "" : "s");
   finish(issues);
-}
-
-// ---------------------------------------------------- grids in and out --
-
-/// A grid read by `map convert` / `map voronoi`, with the files it came from.
-struct LoadedGrid {
-  OccupancyGrid grid;
-  std::string kind;                 ///< "ROS map", "MRPT gridmap", "rove grid"
-  std::vector<fs::path> files;      ///< every file read (a map.yaml and its image)
-  std::vector<std::string> notes;   ///< keys without effect
-};
-
-// Reads a grid from a ROS map.yaml, an MRPT .gridmap or a .rovegrid. `arg`
-// names the command-line argument in errors.
-LoadedGrid load_any_grid(const std::string& path, const std::string& arg) {
-  LoadedGrid g;
-  g.files.push_back(path);
-  if (ends_with_ci(path, ".yaml") || ends_with_ci(path, ".yml")) {
-    RosMap m = load_ros_map(path);
-    for (const auto& k : m.yaml.unknown_keys) {
-      g.notes.push_back(fmt::format("{} key '{}'", printable(path), printable(k)));
-    }
-    g.kind = "ROS map";
-    g.files.push_back(m.image_path);
-    g.grid = std::move(m.grid);
-    return g;
-  }
-  if (ends_with_ci(path, ".gridmap") || ends_with_ci(path, ".gridmap.gz")) {
-    check_regular_input(path, "grid map");
-    g.kind = "MRPT gridmap";
-    g.grid = load_mrpt_gridmap(path).grid;
-    return g;
-  }
-  if (ends_with_ci(path, ".rovegrid") || ends_with_ci(path, ".rovegrid.gz")) {
-    check_regular_input(path, "grid map");
-    g.kind = "rove grid";
-    g.grid = load_grid(path);
-    return g;
-  }
-  throw CLI::ValidationError(arg, fmt::format("{}: unknown input kind (expected .yaml, "
-                                              ".gridmap[.gz] or .rovegrid[.gz])",
-                                              printable(path)));
 }
 
 // ---------------------------------------------------------- map convert --

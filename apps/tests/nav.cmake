@@ -1,0 +1,50 @@
+# End-to-end tests of `rove nav` (included by apps/CMakeLists.txt), on MRPT's
+# own planning example: the Malaga campus map of Debian's mrpt-common, a
+# robot of radius 0.30 m from (20, -110) to (90, 40). MRPT 2.5.8's
+# PlannerSimple2D finds 194.95 m there (modules/nav/tests,
+# grid_planner_datasets_test.cpp); rove's value iteration is within 1 %.
+set(rove_nav_dir ${CMAKE_CURRENT_BINARY_DIR}/nav_tests)
+file(MAKE_DIRECTORY ${rove_nav_dir})
+set(rove_nav_map /usr/share/mrpt/datasets/2006-MalagaCampus.gridmap.gz)
+set(rove_nav_expect ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
+
+add_test(NAME cli.nav_plan_value_iteration COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav plan ${rove_nav_map} --start 20,-110 --goal 90,40 --robot-radius 0.3 -o ${rove_nav_dir}/vi.tum"
+  -DEXIT=0 "-DREGEX=value-iteration: 19(3\\.[1-9]|4\\.|5\\.|6\\.[0-8])[0-9]* m through [0-9]+ points, minimum clearance 0\\.3[0-9]* m.*wrote [^\n]*vi\\.tum\n  wrote [^\n]*vi\\.png"
+  -DFILE=${rove_nav_dir}/vi.tum "-DFILE_REGEX=^# t x y z qx qy qz qw\n0\\.000000 20\\.000000 -110\\.000000 0"
+  -P ${rove_nav_expect})
+set_tests_properties(cli.nav_plan_value_iteration PROPERTIES LABELS cli)
+
+# A* with its clearance cost, simplified, as JSON: no longer than MRPT's path.
+add_test(NAME cli.nav_plan_astar_json COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav plan ${rove_nav_map} --start 20,-110 --goal 90,40 --robot-radius 0.3 --method astar --simplify --json -o ${rove_nav_dir}/astar.tum --picture ${rove_nav_dir}/astar_picture.png"
+  -DEXIT=0 "-DREGEX=\"method\": \"astar\".*\"termination\": \"found\".*\"length_m\": 1(8[0-9]|9[0-4])\\.[0-9]+,.*astar_picture\\.png.*\"issues\": \\[\\]"
+  -P ${rove_nav_expect})
+set_tests_properties(cli.nav_plan_astar_json PROPERTIES LABELS cli)
+
+# Bad input: each a clear error, nothing written.
+add_test(NAME cli.nav_plan_start_in_obstacle COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav plan ${rove_nav_map} --start 35,-60 --goal 90,40 -o ${rove_nav_dir}/bad1.tum"
+  -DEXIT=1 "-DREGEX=rove: error: [^\n]*the start \\(35\\.000, -60\\.000\\) is in an obstacle \\(start-blocked\\)"
+  -DABSENT=${rove_nav_dir}/bad1.tum -P ${rove_nav_expect})
+add_test(NAME cli.nav_plan_goal_outside COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav plan ${rove_nav_map} --start 20,-110 --goal 500,40 -o ${rove_nav_dir}/bad2.tum"
+  -DEXIT=1 "-DREGEX=the goal \\(500\\.000, 40\\.000\\) is outside the map \\[-10\\.000, 141\\.040\\] x \\[-127\\.040, 92\\.000\\] m"
+  -DABSENT=${rove_nav_dir}/bad2.tum -P ${rove_nav_expect})
+add_test(NAME cli.nav_plan_robot_too_large COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav plan ${rove_nav_map} --start 19.5,-103 --goal 90,40 --robot-radius 1.8 -o ${rove_nav_dir}/bad3.tum"
+  -DEXIT=1 "-DREGEX=no path from \\(19\\.500, -103\\.000\\) to \\(90\\.000, 40\\.000\\) for a robot of radius 1\\.8 m"
+  -DABSENT=${rove_nav_dir}/bad3.tum -P ${rove_nav_expect})
+add_test(NAME cli.nav_plan_bad_start COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav plan ${rove_nav_map} --start 1,2,3,4 --goal 90,40 -o ${rove_nav_dir}/bad4.tum"
+  -DEXIT=1 "-DREGEX=--start.*expected x,y or x,y,yaw .meters, degrees., got 4 values"
+  -DABSENT=${rove_nav_dir}/bad4.tum -P ${rove_nav_expect})
+add_test(NAME cli.nav_plan_zero_radius COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav plan ${rove_nav_map} --start 20,-110 --goal 90,40 --robot-radius 0 -o ${rove_nav_dir}/bad5.tum"
+  -DEXIT=2 "-DREGEX=--robot-radius: '0' must be a number greater than 0"
+  -DABSENT=${rove_nav_dir}/bad5.tum -P ${rove_nav_expect})
+add_test(NAME cli.nav_plan_output_is_input COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav plan ${rove_nav_map} --start 20,-110 --goal 90,40 -o ${rove_nav_map}"
+  -DEXIT=1 "-DREGEX=rove: error:" -DKEEP=${rove_nav_map} -DREF=${rove_nav_map} -P ${rove_nav_expect})
+set_tests_properties(cli.nav_plan_start_in_obstacle cli.nav_plan_goal_outside cli.nav_plan_robot_too_large
+  cli.nav_plan_bad_start cli.nav_plan_zero_radius cli.nav_plan_output_is_input PROPERTIES LABELS cli)
