@@ -155,6 +155,10 @@ GridPlanResult plan_path(const NavigationGrid& grid, const SE2d& start, const SE
                          const GridPlannerOptions& o) {
   o.check();
   GridPlanResult r;
+  // The free flags (1 byte per cell) and the search's own (value
+  // iteration 4, A* 5).
+  check_memory_budget(checked_bytes(static_cast<std::uint64_t>(grid.size_x()) * grid.size_y(), 6),
+                      fmt::format("path planning on a {} \u00d7 {} grid", grid.size_x(), grid.size_y()));
   const detail::GridSearchSpace s(grid, o.robot_radius);
   if (refuse_endpoint(s, o.robot_radius, start, true, r) ||
       refuse_endpoint(s, o.robot_radius, goal, false, r)) {
@@ -162,8 +166,6 @@ GridPlanResult plan_path(const NavigationGrid& grid, const SE2d& start, const SE
   }
   const detail::GridCellIndex sc{grid.cell_x(start.translation().x()), grid.cell_y(start.translation().y())};
   const detail::GridCellIndex gc{grid.cell_x(goal.translation().x()), grid.cell_y(goal.translation().y())};
-  check_memory_budget(checked_bytes(static_cast<std::uint64_t>(grid.size_x()) * grid.size_y(), 5),
-                      fmt::format("path planning on a {} \u00d7 {} grid", grid.size_x(), grid.size_y()));
   std::vector<detail::GridCellIndex> cells;
   if (sc == gc) {
     cells = {sc};

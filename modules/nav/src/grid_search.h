@@ -30,10 +30,14 @@ struct GridCellIndex {
 /// compared in float, the clearances' precision (NavigationGrid::segment_free).
 class GridSearchSpace {
  public:
-  GridSearchSpace(const NavigationGrid& grid, double radius)
-      : g_(grid), r_(static_cast<float>(radius)) {}
+  GridSearchSpace(const NavigationGrid& grid, double radius) : g_(grid) {
+    const auto r = static_cast<float>(radius);
+    const auto c = grid.clearances();
+    free_.resize(c.size());
+    for (std::size_t i = 0; i < c.size(); ++i) free_[i] = c[i] > r ? 1 : 0;
+  }
 
-  bool free(int x, int y) const { return g_.clearance(x, y) > r_; }
+  bool free(int x, int y) const { return g_.contains(x, y) && free_[g_.index(x, y)] != 0; }
   bool can_move(int x, int y, int k) const {
     const int nx = x + kMoveDx[k], ny = y + kMoveDy[k];
     if (!free(nx, ny)) return false;
@@ -43,7 +47,7 @@ class GridSearchSpace {
 
  private:
   const NavigationGrid& g_;
-  float r_;  // compared in the clearances' precision
+  std::vector<std::uint8_t> free_;  // per cell, row by row
 };
 
 /// Polls for Ctrl-C every 65536 calls.

@@ -21,7 +21,7 @@ namespace {
 
 // wave > 0: reached from the start with cost wave − 1; wave < 0: reached
 // from the goal with cost −wave − 1; 0: not reached.
-using Wave = std::int64_t;
+using Wave = std::int32_t;
 
 // Follows one wave (sign +1: the start's, −1: the goal's) from `from` down
 // to its source, appending the cells after `from`.
@@ -82,6 +82,8 @@ std::vector<GridCellIndex> value_iteration_search(const GridSearchSpace& s, Grid
                                                   GridPlanResult& r) {
   const NavigationGrid& g = s.grid();
   const int nx = static_cast<int>(g.size_x()), ny = static_cast<int>(g.size_y());
+  // Costs stay below 3 per cell of the grid.
+  ROVE_CHECK_LT(static_cast<double>(nx) * ny, std::numeric_limits<Wave>::max() / 4.0);
   std::vector<Wave> wave(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0);
   if (!connected(s, start, goal, wave)) return {};
   wave[g.index(start.x, start.y)] = 1;
