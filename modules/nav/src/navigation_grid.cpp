@@ -208,6 +208,30 @@ bool NavigationGrid::visit_segment(const Eigen::Vector2d& a, const Eigen::Vector
   return true;
 }
 
+double NavigationGrid::cast_ray(const Eigen::Vector2d& origin, double angle, double max_range) const {
+  ROVE_CHECK_FINITE(angle);
+  ROVE_CHECK_MSG(max_range >= 0 && std::isfinite(max_range), "max_range must be finite and >= 0, got {}",
+                 max_range);
+  const Eigen::Vector2d dir(std::cos(angle), std::sin(angle));
+  const Eigen::Vector2d end = origin + dir * max_range;
+  double hit = std::numeric_limits<double>::infinity();
+  visit_segment(origin, end, [&](int x, int y) {
+    if (!contains(x, y)) return false;
+    if (!occupied_[index(x, y)]) return true;
+    // Where the ray enters the cell's square (slab method).
+    double t0 = 0;
+    for (int k = 0; k < 2; ++k) {
+      if (dir[k] == 0) continue;
+      const double lo = (k == 0 ? x_min_ + x * resolution_ : y_min_ + y * resolution_);
+      const double t_lo = (lo - origin[k]) / dir[k], t_hi = (lo + resolution_ - origin[k]) / dir[k];
+      t0 = std::max(t0, std::min(t_lo, t_hi));
+    }
+    hit = t0;
+    return false;
+  });
+  return hit <= max_range ? hit : std::numeric_limits<double>::infinity();
+}
+
 float NavigationGrid::segment_clearance(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
   float lowest = std::numeric_limits<float>::infinity();
   visit_segment(a, b, [&](int x, int y) {

@@ -113,6 +113,13 @@ class NavigationGrid {
   bool visit_segment(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                      const std::function<bool(int, int)>& f) const;
 
+  /// Distance from `origin` along the ray at `angle` (radians, map frame)
+  /// to the first obstacle cell it enters, meters; +inf when it meets none
+  /// within `max_range` or leaves the grid first (a lidar sees no echo
+  /// there). 0 when origin lies in an obstacle. Precondition: finite origin
+  /// and angle, max_range ≥ 0.
+  double cast_ray(const Eigen::Vector2d& origin, double angle, double max_range) const;
+
   /// Smallest clearance over the cells the segment a → b passes through,
   /// meters (0 if it touches an obstacle or leaves the grid).
   float segment_clearance(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
