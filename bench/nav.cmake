@@ -11,3 +11,8 @@ if(MRPT_FOUND)
 else()
   message(STATUS "rove bench: MRPT 2.5 (nav) not found, bench_nav_vs_mrpt is skipped")
 endif()
+
+# Closed-loop navigation in rove's simulator (no peer): bench/run_nav_closed_loop.sh.
+add_executable(bench_nav_closed_loop ${CMAKE_CURRENT_SOURCE_DIR}/nav_closed_loop.cpp)
+target_link_libraries(bench_nav_closed_loop PRIVATE rove::nav)
+rove_target_defaults(bench_nav_closed_loop)

@@ -1,4 +1,5 @@
-// `rove nav plan`: a path on a grid map for a disc robot.
+// `rove nav plan`: a path on a grid map for a disc robot (`rove nav run`
+// in nav_run_command.cpp).
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include "cli_values.h"
 #include "commands.h"
 #include "grid_input.h"
+#include "nav_commands.h"
 #include "nav_picture.h"
 #include "report.h"
 #include "rove/core/error.h"
@@ -142,6 +144,7 @@ void add_nav_command(CLI::App& app) {
       ->capture_default_str();
   plan->add_flag("--json", a->json, "print the summary as JSON");
   plan->callback([a] { run_nav_plan(*a); });
+  add_nav_run_command(*nav);
 }
 
 }  // namespace rove::cli

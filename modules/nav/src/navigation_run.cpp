@@ -122,6 +122,8 @@ NavigationRunResult run_navigation(const NavigationGrid& world, const SE2d& star
     const auto c0 = std::chrono::steady_clock::now();
     const TebResult step = local_planner.plan(sim.pose(), sim.velocity(), ahead, obstacles);
     r.cycle_seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count());
+    r.cycle_obstacles.push_back(static_cast<int>(obstacles.size()));
+    r.cycle_band_poses.push_back(static_cast<int>(local_planner.band().poses.size()));
     ++r.cycles;
     const double to_goal = (goal.translation() - sim.pose().translation()).norm();
     const bool heading_ok = !o.goal_heading || std::abs(teb::wrap_angle(goal.angle() - sim.pose().angle())) <

@@ -104,6 +104,8 @@ struct NavigationRunResult {
   int replans = 0;                      ///< global replans after the first
   int infeasible_cycles = 0;            ///< cycles the local planner refused to move
   std::vector<double> cycle_seconds;    ///< local planner time per cycle (wall clock)
+  std::vector<int> cycle_obstacles;     ///< obstacle points the local planner saw per cycle
+  std::vector<int> cycle_band_poses;    ///< band poses after each cycle (TEB)
   /// True only when the goal was reached.
   bool ok() const noexcept { return termination == NavigationTermination::GoalReached; }
 };
