@@ -48,3 +48,36 @@ add_test(NAME cli.nav_plan_output_is_input COMMAND ${CMAKE_COMMAND}
   -DEXIT=1 "-DREGEX=rove: error:" -DKEEP=${rove_nav_map} -DREF=${rove_nav_map} -P ${rove_nav_expect})
 set_tests_properties(cli.nav_plan_start_in_obstacle cli.nav_plan_goal_outside cli.nav_plan_robot_too_large
   cli.nav_plan_bad_start cli.nav_plan_zero_radius cli.nav_plan_output_is_input PROPERTIES LABELS cli)
+
+# `rove nav run`: 30 m along a corridor of the campus with the TEB; the goal
+# is reached and every output is written; the log reads back.
+add_test(NAME cli.nav_run_teb COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav run ${rove_nav_map} --start 20,-110,90 --goal 20,-80 -o ${rove_nav_dir}/run"
+  -DEXIT=0 "-DREGEX=teb \\(goal-reached\\): goal reached in [0-9.]+ s.*minimum clearance 0\\.[0-9]+ m.*wrote [^\n]*run\\.rawlog.*wrote [^\n]*frames\\.png"
+  -DFILE=${rove_nav_dir}/run/driven.tum "-DFILE_REGEX=^# t x y z qx qy qz qw\n0\\.000000 20\\.000000 -110\\.000000 0"
+  -P ${rove_nav_expect})
+set_tests_properties(cli.nav_run_teb PROPERTIES LABELS cli FIXTURES_SETUP nav_run)
+add_test(NAME cli.nav_run_log_reads_back COMMAND rove rawlog info ${rove_nav_dir}/run/run.rawlog)
+set_tests_properties(cli.nav_run_log_reads_back PROPERTIES LABELS cli FIXTURES_REQUIRED nav_run
+  PASS_REGULAR_EXPRESSION "format: rove.*[0-9]+  RangeScan2D \\[LIDAR\\].*[0-9]+  RobotMovement2D")
+
+# Bad input: a goal in a wall (no path, nothing written), a robot that does
+# not fit where it starts, an unknown TEB key, a zero speed.
+add_test(NAME cli.nav_run_goal_in_obstacle COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav run ${rove_nav_map} --start 20,-110,90 --goal 35,-60 -o ${rove_nav_dir}/run_bad1"
+  -DEXIT=1 "-DREGEX=the goal \\(35\\.000, -60\\.000\\) is in an obstacle \\(no-path\\)"
+  -DABSENT=${rove_nav_dir}/run_bad1/run.rawlog -P ${rove_nav_expect})
+add_test(NAME cli.nav_run_start_overlaps COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav run ${rove_nav_map} --start 35,-60,0 --goal 20,-80 -o ${rove_nav_dir}/run_bad2"
+  -DEXIT=1 "-DREGEX=the robot \\(radius 0\\.3 m\\) at \\(35\\.000, -60\\.000\\) overlaps an obstacle"
+  -DABSENT=${rove_nav_dir}/run_bad2/run.rawlog -P ${rove_nav_expect})
+file(WRITE ${rove_nav_dir}/typo.ini "[TEB]\nmax_vel_x = 0.5\nweight_obstacles = 10\n")
+add_test(NAME cli.nav_run_unknown_teb_key COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav run ${rove_nav_map} --start 20,-110,90 --goal 20,-80 --config ${rove_nav_dir}/typo.ini -o ${rove_nav_dir}/run_bad3"
+  -DEXIT=1 "-DREGEX=\\[TEB\\] weight_obstacles"
+  -DABSENT=${rove_nav_dir}/run_bad3/run.rawlog -P ${rove_nav_expect})
+add_test(NAME cli.nav_run_zero_speed COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav run ${rove_nav_map} --start 20,-110,90 --goal 20,-80 --max-v 0 -o ${rove_nav_dir}/run_bad4"
+  -DEXIT=2 "-DREGEX=--max-v: '0' must be a number greater than 0" -P ${rove_nav_expect})
+set_tests_properties(cli.nav_run_goal_in_obstacle cli.nav_run_start_overlaps cli.nav_run_unknown_teb_key
+  cli.nav_run_zero_speed PROPERTIES LABELS cli)
