@@ -5,10 +5,14 @@
 // local planner. Prints per planner: goal reached, collisions, other
 // endings; time to goal, driven length and minimum clearance (median over
 // the runs that reached the goal, and the smallest clearance of all runs);
-// the local planner's time per control cycle (median and 99th percentile
-// over every cycle of every run), with the band size and obstacle count.
+// the local planner's CPU time per control cycle (median and 99th
+// percentile over every cycle of every run), with the band size and
+// obstacle count.
 //
-//   bench_nav_closed_loop MAP [--pairs N] [--seed S] [--planner teb] [--runs-out FILE]
+//   bench_nav_closed_loop MAP [--pairs N] [--seed S] [--planner teb|reactive|reactive-nd|reactive-vff]
+//                         [--runs-out FILE]
+//
+// reactive: FullEval, MRPT's default method; -nd and -vff the others.
 //
 // MAP: an MRPT .gridmap[.gz] or a ROS map.yaml. One thread: the cycle times
 // are those of one core.
@@ -18,6 +22,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <string>
@@ -87,13 +92,14 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--runs-out")) runs_out = argv[i + 1];
   }
   const rove::NavigationGrid world = rove::NavigationGrid::from_occupancy(load(map));
-  rove::NavigationRunOptions o;
-  o.simulator.robot_radius = 0.3;
-  o.simulator.limits.max_v = 0.8;
-  o.teb.robot_radius = 0.3;
-  o.teb.max_vel_x = 0.8;
-  o.teb.max_vel_theta = o.simulator.limits.max_omega;
-  o.global.method = rove::GridPlannerMethod::AStar;
+  rove::NavigationRunOptions o = rove::NavigationRunOptions::for_robot(0.3, 0.8, 60 * std::numbers::pi / 180);
+  if (planner == "reactive") o.planner = rove::LocalPlannerKind::Reactive;
+  else if (planner == "reactive-nd") o.planner = rove::LocalPlannerKind::Reactive, o.reactive.holonomic = rove::HolonomicMethod::NearnessDiagram;
+  else if (planner == "reactive-vff") o.planner = rove::LocalPlannerKind::Reactive, o.reactive.holonomic = rove::HolonomicMethod::Vff;
+  else if (planner != "teb") {
+    std::fprintf(stderr, "unknown planner %s (teb, reactive, reactive-nd, reactive-vff)\n", planner.c_str());
+    return 2;
+  }
   const std::vector<Pair> pairs = draw_pairs(world, o, pairs_count, seed);
   std::printf("map %s: %u x %u cells of %.3f m; %zu pairs (seed %llu); planner %s; robot radius %.2f m, "
               "%.2f m/s, %.0f deg/s\n",

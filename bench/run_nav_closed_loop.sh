@@ -6,12 +6,13 @@
 #  - the grid of the Telecom Faculty loop: rove icp-slam on the bundled
 #    rawlog (MRPT's icp-slam_demo_classic.ini), then rove map build with the
 #    occupancy grid of MRPT's localization_demo.ini (6 cm cells).
-# Usage: bench/run_nav_closed_loop.sh [pairs] [planners...]   (default: 100 teb)
+# Usage: bench/run_nav_closed_loop.sh [pairs] [planners...]   (default: 100 teb reactive;
+# also reactive-nd, reactive-vff)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 pairs=${1:-100}
 shift || true
-planners=${*:-teb}
+planners=${*:-teb reactive}
 datasets=${ROVE_DATASETS_DIR:-$(pwd)/../shared/datasets}
 work=build/bench/nav
 mkdir -p "$work"

@@ -48,24 +48,39 @@ SE2d to_se2(const Pose2& p) { return SE2d(p.x(), p.y(), p.phi()); }
 
 // The run's options from the command line, then the config's sections.
 NavigationRunOptions run_options(const NavRunArgs& a, std::vector<std::string>& notes) {
-  NavigationRunOptions o;
-  o.simulator.robot_radius = a.robot_radius;
-  o.simulator.limits.max_v = a.max_v;
-  o.simulator.limits.max_omega = a.max_w_deg * std::numbers::pi / 180;
+  NavigationRunOptions o = NavigationRunOptions::for_robot(a.robot_radius, a.max_v, a.max_w_deg * std::numbers::pi / 180);
+  o.planner = a.planner == "reactive" ? LocalPlannerKind::Reactive : LocalPlannerKind::Teb;
   o.simulator.seed = a.seed;
-  o.teb.robot_radius = a.robot_radius;
-  o.teb.max_vel_x = a.max_v;
-  o.teb.max_vel_theta = a.max_w_deg * std::numbers::pi / 180;
-  o.global.method = GridPlannerMethod::AStar;
   o.max_time = a.max_time;
-  if (!a.config.empty()) {
-    const IniFile ini = IniFile::load(a.config);
-    if (ini.has_section("TEB")) {
-      const ConfigSection teb(ini, "TEB");
-      o.teb = TebOptions::from_config(teb);
-      teb.check_all_read();
-    } else {
+  if (a.config.empty()) return o;
+  const IniFile ini = IniFile::load(a.config);
+  if (o.planner == LocalPlannerKind::Teb) {
+    if (!ini.has_section("TEB")) {
       notes.push_back(fmt::format("{} has no [TEB] section: the TEB keeps its defaults", printable(a.config)));
+      return o;
+    }
+    const ConfigSection teb(ini, "TEB");
+    o.teb = TebOptions::from_config(teb);
+    teb.check_all_read();
+    return o;
+  }
+  std::vector<IgnoredConfigKey> ignored;
+  o.reactive = ReactiveNavigatorOptions::from_config(ini, &ignored);
+  // One note per section and reason.
+  for (std::size_t i = 0; i < ignored.size();) {
+    std::string keys = printable(ignored[i].key);
+    std::size_t j = i + 1;
+    for (; j < ignored.size() && ignored[j].section == ignored[i].section && ignored[j].reason == ignored[i].reason; ++j) {
+      keys += ", " + printable(ignored[j].key);
+    }
+    notes.push_back(fmt::format("[{}] {}: without effect ({})", printable(ignored[i].section), keys, ignored[i].reason));
+    i = j;
+  }
+  for (const PtgOptions& p : o.reactive.ptgs) {
+    if (p.robot_radius < a.robot_radius) {
+      throw ConfigError(a.config, "CReactiveNavigationSystem", "RobotModel_circular_shape_radius",
+                        fmt::format("the PTGs' footprint ({} m) is smaller than the robot (--robot-radius {} m)",
+                                    p.robot_radius, a.robot_radius));
     }
   }
   return o;
@@ -214,9 +229,10 @@ void run_nav_run(const NavRunArgs& a) {
   for (const auto& n : notes) fmt::print("  note: {}\n", n);
   fmt::print("planned: {}\n", r.global.message);
   fmt::print("{} ({}): {}\n", a.planner, to_string(r.termination), r.message);
+  if (o.planner == LocalPlannerKind::Reactive) fmt::print("  holonomic method: {}\n", to_string(o.reactive.holonomic));
   fmt::print("  {:.1f} s, driven {:.2f} m, minimum clearance {:.3f} m, {} cycles ({} replans, {} without a command)\n",
              r.time, r.length, r.min_clearance, r.cycles, r.replans, r.infeasible_cycles);
-  fmt::print("  local planner per cycle: median {:.2f} ms, 99th percentile {:.2f} ms\n", 1e3 * pct(0.5), 1e3 * pct(0.99));
+  fmt::print("  local planner CPU time per cycle: median {:.2f} ms, 99th percentile {:.2f} ms\n", 1e3 * pct(0.5), 1e3 * pct(0.99));
   for (const auto& f : written) fmt::print("  wrote {}\n", printable(f));
   finish(issues);
 }
@@ -228,7 +244,8 @@ void add_nav_run_command(CLI::App& nav) {
   auto* run = nav.add_subcommand(
       "run",
       "Plan a path on a grid map, then drive it with a local planner in the simulator (a disc robot, "
-      "differential drive, a 360-degree lidar ray-cast in the map). Writes into the output folder the "
+      "differential drive, a 360-degree lidar ray-cast in the map); the local planner sees the true pose "
+      "and the scan. Writes into the output folder the "
       "log (run.rawlog: odometry and scans), the driven and planned paths (TUM), the clearances, the "
       "route on the map (route.png) and a strip of frames (frames.png). Exit status 0 when the goal "
       "is reached, 3 when the run ended otherwise (collision, stuck, timeout; outputs written), 1 "
@@ -237,8 +254,12 @@ void add_nav_run_command(CLI::App& nav) {
   run->add_option("--start", a->start, "start pose x,y,yaw (meters, degrees)")->required();
   run->add_option("--goal", a->goal, "goal x,y (or x,y,yaw to reach that heading too)")->required();
   run->add_option("-o,--out", a->out_dir, "output folder (created)")->required();
-  run->add_option("--planner", a->planner, "local planner")->check(CLI::IsMember({"teb"}))->capture_default_str();
-  run->add_option("--config", a->config, "INI file: [TEB] with teb_local_planner's parameter names");
+  run->add_option("--planner", a->planner, "local planner: teb (timed elastic band) or reactive (PTGs)")
+      ->check(CLI::IsMember({"teb", "reactive"}))
+      ->capture_default_str();
+  run->add_option("--config", a->config,
+                  "INI file: for teb, a [TEB] section with teb_local_planner's parameter names; for reactive, "
+                  "MRPT's reactive-navigation file (navigation-ptgs/reactive2d_config.ini)");
   run->add_option("--robot-radius", a->robot_radius, "robot radius, meters")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

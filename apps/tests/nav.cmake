@@ -81,3 +81,19 @@ add_test(NAME cli.nav_run_zero_speed COMMAND ${CMAKE_COMMAND}
   -DEXIT=2 "-DREGEX=--max-v: '0' must be a number greater than 0" -P ${rove_nav_expect})
 set_tests_properties(cli.nav_run_goal_in_obstacle cli.nav_run_start_overlaps cli.nav_run_unknown_teb_key
   cli.nav_run_zero_speed PROPERTIES LABELS cli)
+
+# The reactive navigator reads MRPT's reactive2d_config.ini unchanged (its
+# FullEval method and three PTGs) and drives the same corridor; the keys rove
+# does not use are listed.
+add_test(NAME cli.nav_run_reactive_mrpt_config COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav run ${rove_nav_map} --start 20,-110,90 --goal 20,-80 --planner reactive --config /usr/share/mrpt/config_files/navigation-ptgs/reactive2d_config.ini -o ${rove_nav_dir}/reactive"
+  -DEXIT=0 "-DREGEX=\\[CPointCloudFilterByDistance\\] min_dist, [^\n]*without effect.*reactive \\(goal-reached\\): goal reached.*holonomic method: CHolonomicFullEval.*wrote [^\n]*frames\\.png"
+  -P ${rove_nav_expect})
+# ...and refuses a scoring it does not evaluate, naming the key.
+file(WRITE ${rove_nav_dir}/other_score.ini
+  "[CMultiObjMotionOpt_Scalarization]\nscalar_score_formula = 2*target_distance\n")
+add_test(NAME cli.nav_run_reactive_other_scoring COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> nav run ${rove_nav_map} --start 20,-110,90 --goal 20,-80 --planner reactive --config ${rove_nav_dir}/other_score.ini -o ${rove_nav_dir}/reactive_bad"
+  -DEXIT=1 "-DREGEX=scalar_score_formula.*default scalarization only"
+  -DABSENT=${rove_nav_dir}/reactive_bad/run.rawlog -P ${rove_nav_expect})
+set_tests_properties(cli.nav_run_reactive_mrpt_config cli.nav_run_reactive_other_scoring PROPERTIES LABELS cli)

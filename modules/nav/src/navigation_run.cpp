@@ -1,9 +1,10 @@
 #include "rove/nav/navigation_run.h"
 
 #include <algorithm>
-#include <chrono>
+#include <ctime>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include <fmt/format.h>
 
@@ -16,6 +17,7 @@ namespace rove {
 std::string_view to_string(LocalPlannerKind kind) {
   switch (kind) {
     case LocalPlannerKind::Teb: return "teb";
+    case LocalPlannerKind::Reactive: return "reactive";
   }
   return "unknown";
 }
@@ -34,6 +36,9 @@ std::string_view to_string(NavigationTermination t) {
 void NavigationRunOptions::check() const {
   simulator.check();
   teb.check();
+  reactive.check();
+  ROVE_CHECK_MSG(std::isfinite(reactive_lookahead) && reactive_lookahead > 0, "reactive_lookahead must be > 0, got {}",
+                 reactive_lookahead);
   ROVE_CHECK_MSG(std::isfinite(global_margin) && global_margin >= 0, "global_margin must be >= 0, got {}",
                  global_margin);
   ROVE_CHECK_MSG(std::isfinite(obstacle_range) && obstacle_range > 0, "obstacle_range must be > 0, got {}",
@@ -47,7 +52,39 @@ void NavigationRunOptions::check() const {
   ROVE_CHECK_MSG(!std::isnan(max_time), "max_time is NaN");
 }
 
+NavigationRunOptions NavigationRunOptions::for_robot(double radius, double max_v, double max_omega) {
+  ROVE_CHECK_MSG(std::isfinite(radius) && radius > 0, "radius must be > 0, got {}", radius);
+  ROVE_CHECK_MSG(std::isfinite(max_v) && max_v > 0, "max_v must be > 0, got {}", max_v);
+  ROVE_CHECK_MSG(std::isfinite(max_omega) && max_omega > 0, "max_omega must be > 0, got {}", max_omega);
+  NavigationRunOptions o;
+  o.simulator.robot_radius = radius;
+  o.simulator.limits.max_v = max_v;
+  o.simulator.limits.max_omega = max_omega;
+  o.global.method = GridPlannerMethod::AStar;
+  o.global_margin = 0.15;
+  o.teb.robot_radius = radius;
+  o.teb.max_vel_x = max_v;
+  o.teb.max_vel_theta = max_omega;
+  o.teb.min_obstacle_dist = 0.1;
+  o.teb.penalty_epsilon = 0.05;
+  o.reactive = ReactiveNavigatorOptions::defaults(radius + 0.1);
+  o.reactive.robot_max_v = max_v;
+  o.reactive.robot_max_w = max_omega;
+  for (PtgOptions& p : o.reactive.ptgs) {
+    p.v_max = max_v;
+    p.w_max = max_omega;
+  }
+  return o;
+}
+
 namespace {
+
+// CPU seconds used by the calling thread so far.
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 // The global plan as the local planner follows it: poses from the robot's
 // position along the path, the goal last with its heading (the final
@@ -77,6 +114,79 @@ std::pair<double, std::size_t> remaining(const std::vector<SE2d>& plan, std::siz
   return {rest, best};
 }
 
+// The point `ahead` meters along the plan from its first pose (the goal
+// when the plan is shorter).
+Eigen::Vector2d point_ahead(const std::vector<SE2d>& plan, double ahead) {
+  for (std::size_t i = 1; i < plan.size(); ++i) {
+    const Eigen::Vector2d a = plan[i - 1].translation(), b = plan[i].translation();
+    const double step = (b - a).norm();
+    if (step >= ahead) return a + (b - a) * (ahead / step);
+    ahead -= step;
+  }
+  return plan.back().translation();
+}
+
+// The global path with the margin, else (the robot or the goal too near a
+// wall for it, or only narrower ways) with the bare radius.
+GridPlanResult plan_global(const NavigationGrid& world, const SE2d& from, const SE2d& goal,
+                           const GridPlannerOptions& with_margin, double bare_radius) {
+  GridPlanResult r = plan_path(world, from, goal, with_margin);
+  if (r.ok()) return r;
+  GridPlannerOptions bare = with_margin;
+  bare.robot_radius = bare_radius;
+  return plan_path(world, from, goal, bare);
+}
+
+// One cycle of the chosen local planner.
+struct LocalStep {
+  bool goal_reached = false;
+  bool moving = false;
+  VelocityCommand command;
+  std::vector<SE2d> local_plan;
+  int band_poses = 0;
+};
+
+class LocalPlanner {
+ public:
+  explicit LocalPlanner(const NavigationRunOptions& o) : o_(o) {
+    if (o.planner == LocalPlannerKind::Teb) {
+      teb_ = std::make_unique<TebPlanner>(o.teb);
+    } else {
+      reactive_ = std::make_unique<ReactiveNavigator>(o.reactive);
+    }
+  }
+  LocalStep step(const Simulator& sim, const std::vector<SE2d>& ahead, const std::vector<Eigen::Vector2d>& points,
+                 const std::vector<TebObstacle>& obstacles) {
+    LocalStep s;
+    if (teb_) {
+      const TebResult r = teb_->plan(sim.pose(), sim.velocity(), ahead, obstacles);
+      s.goal_reached = r.termination == TebTermination::GoalReached;
+      s.moving = r.termination == TebTermination::Optimized;
+      s.command = r.command;
+      s.local_plan = teb_->band().poses;
+      s.band_poses = static_cast<int>(s.local_plan.size());
+      return s;
+    }
+    // The path's relative start is the robot's nearest plan point.
+    const Eigen::Vector2d target = point_ahead(ahead, o_.reactive_lookahead);
+    const bool final_target = (target - ahead.back().translation()).norm() < 1e-9;
+    const ReactiveResult r = reactive_->step(sim.pose(), points, target, final_target ? 0.5 * o_.goal_tolerance : 0.0);
+    s.goal_reached = final_target && r.termination == ReactiveTermination::TargetReached;
+    s.moving = r.termination == ReactiveTermination::Moving;
+    s.command = r.command;
+    s.local_plan = r.trajectory;
+    return s;
+  }
+  void reset() {
+    if (teb_) teb_->reset();
+  }
+
+ private:
+  const NavigationRunOptions& o_;
+  std::unique_ptr<TebPlanner> teb_;
+  std::unique_ptr<ReactiveNavigator> reactive_;
+};
+
 }  // namespace
 
 NavigationRunResult run_navigation(const NavigationGrid& world, const SE2d& start, const SE2d& goal,
@@ -87,24 +197,19 @@ NavigationRunResult run_navigation(const NavigationGrid& world, const SE2d& star
   Simulator sim(world, start, o.simulator);
   GridPlannerOptions global = o.global;
   global.robot_radius = o.simulator.robot_radius + o.global_margin;
-  r.global = plan_path(world, start, goal, global);
+  if (o.planner == LocalPlannerKind::Reactive) {
+    for (const PtgOptions& p : o.reactive.ptgs) global.robot_radius = std::max(global.robot_radius, p.robot_radius + 0.05);
+  }
+  r.global = plan_global(world, start, goal, global, o.simulator.robot_radius);
   if (!r.global.ok()) {
-    // Too near a wall for the margin: the bare radius may still pass.
-    GridPlannerOptions bare = global;
-    bare.robot_radius = o.simulator.robot_radius;
-    if (r.global.termination == PlanTermination::StartBlocked || r.global.termination == PlanTermination::GoalBlocked ||
-        r.global.termination == PlanTermination::NoPath) {
-      r.global = plan_path(world, start, goal, bare);
-    }
-    if (!r.global.ok()) {
-      r.termination = NavigationTermination::NoPath;
-      r.message = r.global.message;
-      return r;
-    }
+    r.termination = NavigationTermination::NoPath;
+    r.message = r.global.message;
+    return r;
   }
   std::vector<SE2d> plan = plan_poses(r.global.path, goal, o.goal_heading);
-  const double max_time = o.max_time > 0 ? o.max_time : 60.0 + 3.0 * r.global.path.length / o.teb.max_vel_x;
-  TebPlanner local_planner(o.teb);
+  const double max_time =
+      o.max_time > 0 ? o.max_time : 60.0 + 3.0 * r.global.path.length / o.simulator.limits.max_v;
+  LocalPlanner local_planner(o);
   const Timestamp t0 = Timestamp::from_seconds(0.0);
   r.driven.push_back(start);
   r.min_clearance = sim.clearance();
@@ -119,22 +224,22 @@ NavigationRunResult run_navigation(const NavigationGrid& world, const SE2d& star
     }
     const std::vector<TebObstacle> obstacles = point_obstacles(near, o.obstacle_cell);
     const std::vector<SE2d> ahead(plan.begin() + static_cast<std::ptrdiff_t>(plan_at), plan.end());
-    const auto c0 = std::chrono::steady_clock::now();
-    const TebResult step = local_planner.plan(sim.pose(), sim.velocity(), ahead, obstacles);
-    r.cycle_seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count());
-    r.cycle_obstacles.push_back(static_cast<int>(obstacles.size()));
-    r.cycle_band_poses.push_back(static_cast<int>(local_planner.band().poses.size()));
+    const double c0 = thread_cpu_seconds();
+    const LocalStep step = local_planner.step(sim, ahead, near, obstacles);
+    r.cycle_seconds.push_back(thread_cpu_seconds() - c0);
+    r.cycle_obstacles.push_back(static_cast<int>(o.planner == LocalPlannerKind::Teb ? obstacles.size() : near.size()));
+    r.cycle_band_poses.push_back(step.band_poses);
     ++r.cycles;
     const double to_goal = (goal.translation() - sim.pose().translation()).norm();
     const bool heading_ok = !o.goal_heading || std::abs(teb::wrap_angle(goal.angle() - sim.pose().angle())) <
                                                    o.teb.yaw_goal_tolerance;
-    if ((to_goal < o.goal_tolerance && heading_ok) || step.termination == TebTermination::GoalReached) {
+    if ((to_goal < o.goal_tolerance && heading_ok) || step.goal_reached) {
       r.termination = NavigationTermination::GoalReached;
       r.message = fmt::format("goal reached in {:.1f} s, {:.2f} m driven", sim.time(), r.length);
       break;
     }
     VelocityCommand command;
-    if (step.termination == TebTermination::Optimized) {
+    if (step.moving) {
       command = step.command;
     } else {
       ++r.infeasible_cycles;
@@ -146,7 +251,7 @@ NavigationRunResult run_navigation(const NavigationGrid& world, const SE2d& star
     r.min_clearance = std::min(r.min_clearance, sim.clearance());
     r.time = sim.time();
     if (on_frame) {
-      NavigationFrame f{sim.time(), sim.pose(), near, local_planner.band().poses, command};
+      NavigationFrame f{sim.time(), sim.pose(), near, step.local_plan, command};
       on_frame(f);
     }
     if (s.collided) {
@@ -168,12 +273,7 @@ NavigationRunResult run_navigation(const NavigationGrid& world, const SE2d& star
         break;
       }
       ++r.replans;
-      GridPlannerOptions bare = global;
-      GridPlanResult again = plan_path(world, sim.pose(), goal, global);
-      if (!again.ok()) {
-        bare.robot_radius = o.simulator.robot_radius;
-        again = plan_path(world, sim.pose(), goal, bare);
-      }
+      const GridPlanResult again = plan_global(world, sim.pose(), goal, global, o.simulator.robot_radius);
       if (again.ok()) {
         plan = plan_poses(again.path, goal, o.goal_heading);
         plan_at = 0;

@@ -2,8 +2,9 @@
 /// \file
 /// A navigation run in the simulator: a global path on the map (grid
 /// planner), then a local planner each control cycle — the timed elastic
-/// band (teb.h) — fed with the simulated lidar's points, until the robot
-/// reaches the goal, touches an obstacle, gets stuck or runs out of time. What `rove nav run` and the
+/// band (teb.h) or the reactive navigator (reactive_navigator.h) — fed with
+/// the simulated lidar's points, until the robot reaches the goal, touches
+/// an obstacle, gets stuck or runs out of time. What `rove nav run` and the
 /// closed-loop benchmark drive.
 ///
 /// The local planner sees the robot's true pose (localization is taken as
@@ -21,6 +22,7 @@
 #include "rove/math/se2.h"
 #include "rove/nav/grid_planner.h"
 #include "rove/nav/navigation_grid.h"
+#include "rove/nav/reactive_navigator.h"
 #include "rove/nav/simulator.h"
 #include "rove/nav/teb.h"
 
@@ -28,10 +30,11 @@ namespace rove {
 
 /// Which local planner drives.
 enum class LocalPlannerKind : std::uint8_t {
-  Teb,  ///< the timed elastic band
+  Teb,       ///< the timed elastic band
+  Reactive,  ///< the PTG-based reactive navigator
 };
 
-/// "teb".
+/// "teb" or "reactive".
 std::string_view to_string(LocalPlannerKind kind);
 
 /// Options of run_navigation.
@@ -39,12 +42,18 @@ struct NavigationRunOptions {
   /// The local planner.
   LocalPlannerKind planner = LocalPlannerKind::Teb;
   /// The global planner; its robot_radius is overridden by the simulator's
-  /// radius + global_margin.
+  /// radius + global_margin (for the reactive navigator, at least its
+  /// largest PTG footprint + 0.05 m, so that the path leaves it room).
   GridPlannerOptions global;
   /// Extra clearance the global path keeps beyond the robot radius, m. ≥ 0.
   double global_margin = 0.15;
   /// The TEB (its limits should not exceed the simulator's).
   TebOptions teb;
+  /// The reactive navigator (its PTGs' footprint should cover the robot).
+  ReactiveNavigatorOptions reactive = ReactiveNavigatorOptions::defaults(0.4);
+  /// The reactive navigator's target: the point this far along the global
+  /// path ahead of the robot (or the goal), m. > 0.
+  double reactive_lookahead = 2.0;
   /// The robot and its sensors.
   SimulatorOptions simulator;
   /// Scan points nearer than this to the robot are the local planner's
@@ -68,6 +77,14 @@ struct NavigationRunOptions {
   /// Throws InvalidArgument naming the first bad field (and the nested
   /// options' checks).
   void check() const;
+
+  /// Options for a disc robot of `radius` m with top speeds `max_v` (m/s)
+  /// and `max_omega` (rad/s), every part agreeing: the simulator's limits;
+  /// the TEB's radius and speeds, its wanted obstacle distance (0.1 m, with
+  /// a 0.05 m penalty margin) matching the global path's margin; the
+  /// reactive navigator's PTGs (footprint radius + 0.1 m, its speeds); A*
+  /// for the global path. Preconditions: positive finite values.
+  static NavigationRunOptions for_robot(double radius, double max_v, double max_omega);
 };
 
 /// Why a run ended.
@@ -87,7 +104,7 @@ struct NavigationFrame {
   double time = 0;                          ///< s
   SE2d T_map_robot;                         ///< ground truth
   std::vector<Eigen::Vector2d> obstacles;   ///< the local planner's obstacle points
-  std::vector<SE2d> local_plan;             ///< the band (TEB)
+  std::vector<SE2d> local_plan;             ///< the band (TEB) or the chosen trajectory (reactive)
   VelocityCommand command;                  ///< sent this cycle
 };
 
@@ -103,9 +120,9 @@ struct NavigationRunResult {
   int cycles = 0;                       ///< control cycles run
   int replans = 0;                      ///< global replans after the first
   int infeasible_cycles = 0;            ///< cycles the local planner refused to move
-  std::vector<double> cycle_seconds;    ///< local planner time per cycle (wall clock)
+  std::vector<double> cycle_seconds;    ///< local planner time per cycle (CPU time of the calling thread)
   std::vector<int> cycle_obstacles;     ///< obstacle points the local planner saw per cycle
-  std::vector<int> cycle_band_poses;    ///< band poses after each cycle (TEB)
+  std::vector<int> cycle_band_poses;    ///< band poses after each cycle (TEB; 0 for the reactive navigator)
   /// True only when the goal was reached.
   bool ok() const noexcept { return termination == NavigationTermination::GoalReached; }
 };
