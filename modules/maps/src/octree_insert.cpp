@@ -1,16 +1,23 @@
 // OccupancyOctree::insert_point_cloud: rays from a sensor origin into the
 // tree, as OctoMap's insertPointCloud / insertPointCloudRays, in three steps:
 //   1. rays: each point's end (cut by max_range) and end cell, checked;
-//   2. updates: with one thread, the rays are walked straight into the tree
-//      (octree_update.h); with several, the cells each ray crosses are first
+//   2. updates. Each cell once per scan (OncePerScan, Discretized): when the
+//      box of the rays' cells is small enough, the rays mark the cells they
+//      cross in dense bitmaps over the box (octree_dense_cells.h; one bitmap
+//      per thread, merged with an OR), the occupied ends are tagged, and the
+//      cells are updated in tree order, below the root with one thread, per
+//      subtree ("bucket") of a fixed grid in parallel with several. A larger
+//      box, and EveryRay, take the sparse path: with one thread, the rays
+//      are walked straight into a hashed cell set (octree_cell_set.h) or the
+//      tree (EveryRay); with several, the cells each ray crosses are first
 //      recorded as runs of unit steps (2 bits a step), cut where they cross
-//      into another subtree ("bucket") of a fixed grid, sorted by bucket
-//      (stably: cloud order is kept within a bucket), then the buckets are
-//      updated in parallel, each below its own root node;
+//      into another bucket, sorted by bucket (stably: cloud order is kept
+//      within a bucket), then the buckets are updated in parallel;
 //   3. the touched nodes are pruned or set to the maximum of their children,
 //      per bucket in parallel, then above the buckets.
-// Buckets are disjoint subtrees and each keeps the cloud's order, so the
-// tree does not depend on the thread count (a property the tests check).
+// A set of cells does not depend on the order it was marked in, buckets are
+// disjoint subtrees and each keeps the cloud's order, so the tree does not
+// depend on the thread count (a property the tests check).
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -21,6 +28,7 @@
 #include <fmt/format.h>
 
 #include "octree_cell_set.h"
+#include "octree_dense_cells.h"
 #include "octree_rays.h"
 #include "octree_update.h"
 #include "rove/core/check.h"
@@ -85,6 +93,16 @@ struct BucketGrid {
 
 constexpr std::size_t kChunkRays = 2048;
 
+// The dense path's memory: a bitmap (one per marking thread) may take up to
+// 4 bytes per cell step the rays make (about what the sparse cell set
+// takes), and at least 4 MiB.
+constexpr std::size_t kDenseBytesPerStep = 4;
+constexpr std::size_t kDenseMinBytes = std::size_t{4} << 20;
+// Cells added around the box of the rays' end cells and origin: a ray's
+// cells stay within its end cells' box up to rounding (a walk that leaves
+// the box anyway sends the scan to the sparse path).
+constexpr int kDenseMargin = 2;
+
 template <typename P>
 class CloudInsertion {
  public:
@@ -110,10 +128,12 @@ class CloudInsertion {
     const int threads = resolve_thread_count(options_.num_threads, "OctreeInsertOptions::num_threads");
     if (rays_.empty()) {
       // Nothing to insert: the tree stays as it is (no root is created).
-    } else if (threads == 1 || !choose_grid()) {
-      run_direct();
-    } else {
-      run_buckets(threads);
+    } else if (every_ray() || !run_dense(threads)) {
+      if (threads == 1 || !choose_grid()) {
+        run_direct();
+      } else {
+        run_buckets(threads);
+      }
     }
     if (result_.skipped_points > 0) {
       result_.termination = OctreeInsertTermination::SkippedPoints;
@@ -216,19 +236,88 @@ class CloudInsertion {
     }
   }
 
-  void run_direct() {
+  // Runs fill(updater) below the root, then finalizes the tree.
+  template <typename Fill>
+  void update_from_root(Fill&& fill) {
     std::vector<BlockAllocator> allocs;
     allocs.emplace_back(store_, nullptr);
-    std::size_t& num_nodes = OctreeAccess::num_nodes(tree_);
-    const bool fresh = ensure_root(store_, num_nodes);
+    const bool fresh = ensure_root(store_, OctreeAccess::num_nodes(tree_));
     SubtreeUpdater up(store_, allocs[0], params_, 0, 0, fresh);
-    if (every_ray()) {
-      for (const Ray<P>& r : rays_) {
-        traverse_ray(origin_, r.end, origin_key_, r.key, resolution_,
-                     [&](const OctreeKey& k, int) { up.apply(k, UpdateKind::Delta, params_.miss); });
-        up.apply(r.key, UpdateKind::Delta, params_.hit);
+    fill(up);
+    const std::int64_t pruned = finalize_subtree(store_, allocs[0], params_, 0, 0, options_.lazy);
+    store_.dirty(0) = 0;
+    result_.occupied_updates = up.hit_updates;
+    result_.free_updates = up.miss_updates;
+    finish(allocs, up.node_delta + pruned, {&up.changes});
+  }
+
+  // Runs fill(thread, i, updater) for the subtrees at `depth` whose nodes
+  // contain corners[i], in parallel, then finalizes them and the nodes above them.
+  template <typename Fill>
+  void update_subtrees(ThreadTeam& team, const std::vector<OctreeKey>& corners, int depth, Fill&& fill) {
+    const int threads = team.size();
+    // The path from the root to each subtree's root node.
+    std::mutex mutex;
+    std::vector<BlockAllocator> allocs;
+    for (int t = 0; t < threads; ++t) allocs.emplace_back(store_, &mutex);
+    std::vector<std::uint32_t> roots(corners.size());
+    std::vector<char> fresh(corners.size(), 0);
+    std::int64_t node_delta = 0;
+    {
+      const bool root_fresh = ensure_root(store_, OctreeAccess::num_nodes(tree_));
+      SubtreeUpdater top(store_, allocs[0], params_, 0, 0, root_fresh);
+      for (std::size_t i = 0; i < corners.size(); ++i) {
+        bool f = false;
+        roots[i] = top.reach(corners[i], depth, f);
+        fresh[i] = f ? 1 : 0;
       }
-    } else {
+      node_delta += top.node_delta;
+    }
+    // The subtrees' updates, in parallel.
+    std::vector<std::vector<ChangeEvent>> changes(corners.size());
+    std::vector<std::int64_t> deltas(corners.size(), 0);
+    std::vector<std::size_t> hits(corners.size(), 0), misses(corners.size(), 0);
+    std::atomic<std::size_t> next_subtree{0};
+    team.run([&](int t) {
+      for (std::size_t i; (i = next_subtree.fetch_add(1)) < corners.size();) {
+        SubtreeUpdater up(store_, allocs[static_cast<std::size_t>(t)], params_, roots[i], depth, fresh[i] != 0);
+        fill(t, i, up);
+        deltas[i] = up.node_delta;
+        hits[i] = up.hit_updates;
+        misses[i] = up.miss_updates;
+        changes[i] = std::move(up.changes);
+      }
+    });
+    // Finalize each subtree, then the nodes above them.
+    std::atomic<std::size_t> next_final{0};
+    team.run([&](int t) {
+      for (std::size_t i; (i = next_final.fetch_add(1)) < corners.size();) {
+        deltas[i] += finalize_subtree(store_, allocs[static_cast<std::size_t>(t)], params_, roots[i], depth,
+                                      options_.lazy);
+      }
+    });
+    node_delta += finalize_subtree(store_, allocs[0], params_, 0, 0, options_.lazy, depth);
+    store_.dirty(0) = 0;
+    std::vector<const std::vector<ChangeEvent>*> change_lists;
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+      node_delta += deltas[i];
+      result_.occupied_updates += hits[i];
+      result_.free_updates += misses[i];
+      change_lists.push_back(&changes[i]);
+    }
+    finish(allocs, node_delta, change_lists);
+  }
+
+  void run_direct() {
+    update_from_root([&](SubtreeUpdater& up) {
+      if (every_ray()) {
+        for (const Ray<P>& r : rays_) {
+          traverse_ray(origin_, r.end, origin_key_, r.key, resolution_,
+                       [&](const OctreeKey& k, int) { up.apply(k, UpdateKind::Delta, params_.miss); });
+          up.apply(r.key, UpdateKind::Delta, params_.hit);
+        }
+        return;
+      }
       // The cells of the scan, each once (occupied ones tagged), then the
       // updates in the tree's order.
       CellSet cells;
@@ -243,34 +332,118 @@ class CloudInsertion {
       cells.for_each_in_tree_order([&](const OctreeKey& k, bool occupied) {
         up.apply(k, occupied ? UpdateKind::ScanHit : UpdateKind::ScanMiss, 0.0f);
       });
+    });
+  }
+
+  // The box of the origin's and the rays' end cells, `margin` cells wider
+  // on each side (within the tree), and the cell steps of the rays if each
+  // walked straight to its end cell.
+  void ray_box(int margin, OctreeKey& lo, OctreeKey& hi, std::size_t& steps) const {
+    int l[3], h[3];
+    for (int a = 0; a < 3; ++a) l[a] = h[a] = origin_key_[a];
+    steps = 0;
+    for (const Ray<P>& r : rays_) {
+      for (int a = 0; a < 3; ++a) {
+        l[a] = std::min<int>(l[a], r.key[a]), h[a] = std::max<int>(h[a], r.key[a]);
+        steps += static_cast<std::size_t>(std::abs(r.key[a] - origin_key_[a]));
+      }
     }
-    const std::int64_t pruned = finalize_subtree(store_, allocs[0], params_, 0, 0, options_.lazy);
-    store_.dirty(0) = 0;
-    result_.occupied_updates = up.hit_updates;
-    result_.free_updates = up.miss_updates;
-    finish(allocs, up.node_delta + pruned, {&up.changes});
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = static_cast<std::uint16_t>(std::max(0, l[a] - margin));
+      hi[a] = static_cast<std::uint16_t>(std::min(0xFFFF, h[a] + margin));
+    }
+  }
+
+  // The bucket size (log2 of cells per axis) for the box [lo, hi]: about 4
+  // to 8 buckets along its longest axis, at least 2^min_shift cells.
+  static int bucket_shift(const OctreeKey& lo, const OctreeKey& hi, int min_shift) {
+    int extent = 0;
+    for (int a = 0; a < 3; ++a) extent = std::max(extent, hi[a] - lo[a] + 1);
+    return std::max(min_shift, static_cast<int>(std::bit_width(static_cast<unsigned>(extent))) - 3);
   }
 
   // Picks the bucket grid from the cells the rays can reach; false when a
   // single bucket would hold them all.
   bool choose_grid() {
-    int lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) lo[a] = hi[a] = origin_key_[a];
-    for (const Ray<P>& r : rays_) {
-      for (int a = 0; a < 3; ++a) lo[a] = std::min<int>(lo[a], r.key[a]), hi[a] = std::max<int>(hi[a], r.key[a]);
-    }
-    int extent = 0;
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::max(0, lo[a] - 1), hi[a] = std::min(0xFFFF, hi[a] + 1);
-      extent = std::max(extent, hi[a] - lo[a] + 1);
-    }
-    // About 4 to 8 buckets along the longest axis.
-    grid_.shift = std::max(4, static_cast<int>(std::bit_width(static_cast<unsigned>(extent))) - 3);
+    OctreeKey lo, hi;
+    std::size_t steps = 0;
+    ray_box(1, lo, hi, steps);
+    grid_.shift = bucket_shift(lo, hi, 4);
     if (grid_.shift >= kOctreeDepth || rays_.size() < 2 * kChunkRays) return false;
     for (int a = 0; a < 3; ++a) {
       grid_.lo[a] = lo[a] >> grid_.shift;
       grid_.n[a] = (hi[a] >> grid_.shift) - grid_.lo[a] + 1;
     }
+    return true;
+  }
+
+  // Each cell once per scan through dense bitmaps (see the file comment);
+  // false, with the tree untouched, when the box of the rays is too large
+  // for them or some ray left it.
+  bool run_dense(int threads) {
+    OctreeKey lo, hi;
+    std::size_t steps = 0;
+    ray_box(kDenseMargin, lo, hi, steps);
+    const std::size_t bytes = DenseCellSet::bytes_for(lo, hi);
+    const std::size_t budget = std::max(kDenseMinBytes, kDenseBytesPerStep * steps);
+    if (bytes > budget) return false;
+    const std::size_t chunks = (rays_.size() + kChunkRays - 1) / kChunkRays;
+    const int markers = static_cast<int>(std::min({static_cast<std::size_t>(threads), budget / bytes, chunks}));
+    std::vector<DenseCellSet> sets;
+    sets.reserve(static_cast<std::size_t>(markers));
+    for (int m = 0; m < markers; ++m) sets.emplace_back(lo, hi);
+    for (const Ray<P>& r : rays_) {
+      if (r.occupied) sets[0].tag(r.key);
+    }
+    ThreadTeam team(threads);
+    std::atomic<std::size_t> next_chunk{0};
+    team.run([&](int t) {
+      if (t >= markers) return;
+      DenseCellSet::Marker marker(sets[static_cast<std::size_t>(t)]);
+      for (std::size_t c; (c = next_chunk.fetch_add(1)) < chunks;) {
+        const std::size_t end = std::min(rays_.size(), (c + 1) * kChunkRays);
+        for (std::size_t i = c * kChunkRays; i < end; ++i) {
+          walk_ray(origin_, rays_[i].end, origin_key_, rays_[i].key, resolution_, marker);
+        }
+      }
+    });
+    if (std::any_of(sets.begin(), sets.end(), [](const DenseCellSet& d) { return d.overflowed(); })) return false;
+    if (markers > 1) {
+      const std::size_t words = sets[0].words();
+      team.run([&](int t) {
+        const std::size_t n = static_cast<std::size_t>(threads), i = static_cast<std::size_t>(t);
+        for (std::size_t m = 1; m < sets.size(); ++m) sets[0].merge_marks(sets[m], words * i / n, words * (i + 1) / n);
+      });
+      sets.erase(sets.begin() + 1, sets.end());
+    }
+    const DenseCellSet& cells = sets[0];
+    const std::vector<DenseCellSet::BlockRef> blocks = cells.blocks_in_tree_order();
+    const auto update_blocks = [&](SubtreeUpdater& up, std::size_t begin, std::size_t end) {
+      for (std::size_t b = begin; b < end; ++b) {
+        cells.for_each_in_block(blocks[b].index, [&](const OctreeKey& k, bool occupied) {
+          up.apply(k, occupied ? UpdateKind::ScanHit : UpdateKind::ScanMiss, 0.0f);
+        });
+      }
+    };
+    const int shift = bucket_shift(lo, hi, DenseCellSet::kBlockShift);
+    if (threads == 1 || shift >= kOctreeDepth) {
+      update_from_root([&](SubtreeUpdater& up) { update_blocks(up, 0, blocks.size()); });
+      return true;
+    }
+    // Buckets: runs of blocks in one subtree of 2^shift cells a side (their
+    // Morton codes agree above the bucket's bits).
+    const int code_shift = 3 * (shift - DenseCellSet::kBlockShift);
+    std::vector<std::size_t> starts;
+    std::vector<OctreeKey> corners;
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      if (b == 0 || (blocks[b].code >> code_shift) != (blocks[b - 1].code >> code_shift)) {
+        starts.push_back(b);
+        corners.push_back(octree_key_at_depth(cells.block_corner(blocks[b].index), kOctreeDepth - shift));
+      }
+    }
+    starts.push_back(blocks.size());
+    update_subtrees(team, corners, kOctreeDepth - shift,
+                    [&](int, std::size_t i, SubtreeUpdater& up) { update_blocks(up, starts[i], starts[i + 1]); });
     return true;
   }
 
@@ -326,58 +499,13 @@ class CloudInsertion {
     for (std::uint32_t b = 0; b < grid_.size(); ++b) {
       if (start[b + 1] > start[b]) buckets.push_back(b);
     }
-    // Step 2b: the path from the root to each bucket's root node.
-    std::mutex mutex;
-    std::vector<BlockAllocator> allocs;
-    for (int t = 0; t < threads; ++t) allocs.emplace_back(store_, &mutex);
-    const int depth = kOctreeDepth - grid_.shift;
-    std::vector<std::uint32_t> roots(buckets.size());
-    std::vector<char> fresh(buckets.size(), 0);
-    std::int64_t node_delta = 0;
-    {
-      const bool root_fresh = ensure_root(store_, OctreeAccess::num_nodes(tree_));
-      SubtreeUpdater top(store_, allocs[0], params_, 0, 0, root_fresh);
-      for (std::size_t i = 0; i < buckets.size(); ++i) {
-        bool f = false;
-        roots[i] = top.reach(grid_.corner(buckets[i]), depth, f);
-        fresh[i] = f ? 1 : 0;
-      }
-      node_delta += top.node_delta;
-    }
-    // Step 2c: update the buckets in parallel.
-    std::vector<std::vector<ChangeEvent>> changes(buckets.size());
-    std::vector<std::int64_t> deltas(buckets.size(), 0);
-    std::vector<std::size_t> hits(buckets.size(), 0), misses(buckets.size(), 0);
-    std::atomic<std::size_t> next_bucket{0};
-    team.run([&](int t) {
-      CellSet cells;
-      for (std::size_t i; (i = next_bucket.fetch_add(1)) < buckets.size();) {
-        SubtreeUpdater up(store_, allocs[static_cast<std::size_t>(t)], params_, roots[i], depth, fresh[i] != 0);
-        update_bucket(up, events, start[buckets[i]], start[buckets[i] + 1], recorded, cells);
-        deltas[i] = up.node_delta;
-        hits[i] = up.hit_updates;
-        misses[i] = up.miss_updates;
-        changes[i] = std::move(up.changes);
-      }
+    // Steps 2b and 3: the buckets, in parallel.
+    std::vector<OctreeKey> corners;
+    for (const std::uint32_t b : buckets) corners.push_back(grid_.corner(b));
+    std::vector<CellSet> cells(static_cast<std::size_t>(threads));
+    update_subtrees(team, corners, kOctreeDepth - grid_.shift, [&](int t, std::size_t i, SubtreeUpdater& up) {
+      update_bucket(up, events, start[buckets[i]], start[buckets[i] + 1], recorded, cells[static_cast<std::size_t>(t)]);
     });
-    // Step 3: finalize each bucket, then the nodes above them.
-    std::atomic<std::size_t> next_final{0};
-    team.run([&](int t) {
-      for (std::size_t i; (i = next_final.fetch_add(1)) < buckets.size();) {
-        deltas[i] += finalize_subtree(store_, allocs[static_cast<std::size_t>(t)], params_, roots[i], depth,
-                                      options_.lazy);
-      }
-    });
-    node_delta += finalize_subtree(store_, allocs[0], params_, 0, 0, options_.lazy, depth);
-    store_.dirty(0) = 0;
-    std::vector<const std::vector<ChangeEvent>*> change_lists;
-    for (std::size_t i = 0; i < buckets.size(); ++i) {
-      node_delta += deltas[i];
-      result_.occupied_updates += hits[i];
-      result_.free_updates += misses[i];
-      change_lists.push_back(&changes[i]);
-    }
-    finish(allocs, node_delta, change_lists);
   }
 
   void update_bucket(SubtreeUpdater& up, const std::vector<Event>& events, std::uint32_t begin, std::uint32_t end,

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <type_traits>
 
@@ -88,22 +89,33 @@ inline int dda_axis(const double t_max[3]) noexcept {
   return 2 - 2 * (c01 & c02) - ((c01 ^ 1) & c12);
 }
 
-// Calls emit(key, axis) for every cell the segment origin → end crosses:
-// the origin's cell first (axis −1), then each next cell with the axis it
-// was entered along; the end's cell is not emitted, and nothing when both
-// are in one cell (OctoMap's computeRayKeys). `key_origin` and `key_end`
-// are the cells of origin and end. A ray that would leave the tree stops
-// there (OctoMap's keys would wrap around).
+// Walks the cells the segment origin → end crosses, as OctoMap's
+// computeRayKeys: the origin's cell first, then each next cell; the end's
+// cell is not visited, and nothing when both are in one cell. `key_origin`
+// and `key_end` are the cells of origin and end. The cells are tracked by
+// `cells`, a policy with
+//   bool start(const OctreeKey& k)   the walk starts in cell k; false: stop
+//   template <int Axis> bool advance(int step)
+//                                    one cell along Axis (step ±1); false:
+//                                    the cell is outside the policy's range,
+//                                    stop (a ray would leave the tree there:
+//                                    OctoMap's keys would wrap around)
+//   bool at(const OctreeKey& k)      whether the current cell is k
+//   void visit(int axis)             the current cell is crossed; entered
+//                                    along `axis` (−1 for the origin's)
 //
-// The state lives in scalars, not arrays indexed by the axis: a load that
-// follows a store to an address known late (key[axis]) makes the processor
-// replay the loop, which doubles its cost (the branches on the axis are
-// cheaper: along a ray they repeat and are well predicted).
-template <typename P, typename Emit>
-inline void traverse_ray(const P origin[3], const P end[3], const OctreeKey& key_origin,
-                         const OctreeKey& key_end, double resolution, Emit&& emit) {
-  if (key_origin == key_end) return;
-  emit(key_origin, -1);
+// The end's cell can only be reached after exactly as many steps as the
+// keys of origin and end differ by (each axis moves one way), so the cell
+// is compared with it only then. The state lives in scalars, not arrays
+// indexed by the axis: a load that follows a store to an address known
+// late (key[axis]) makes the processor replay the loop, which doubles its
+// cost (the branches on the axis are cheaper: along a ray they repeat and
+// are well predicted).
+template <typename P, typename Cells>
+inline void walk_ray(const P origin[3], const P end[3], const OctreeKey& key_origin, const OctreeKey& key_end,
+                     double resolution, Cells& cells) {
+  if (key_origin == key_end || !cells.start(key_origin)) return;
+  cells.visit(-1);
   P dir[3] = {end[0] - origin[0], end[1] - origin[1], end[2] - origin[2]};
   const P length = static_cast<P>(norm3(dir));
   if (!(length > P(0)) || !std::isfinite(length)) return;
@@ -114,27 +126,63 @@ inline void traverse_ray(const P origin[3], const P end[3], const OctreeKey& key
   if (step[0] == 0 && step[1] == 0 && step[2] == 0) return;
   double t0 = t_max[0], t1 = t_max[1], t2 = t_max[2];
   const double d0 = t_delta[0], d1 = t_delta[1], d2 = t_delta[2];
-  int k0 = key_origin.x, k1 = key_origin.y, k2 = key_origin.z;
-  const int e0 = key_end.x, e1 = key_end.y, e2 = key_end.z;
   const double limit = static_cast<double>(length);
   const int st0 = step[0], st1 = step[1], st2 = step[2];
+  long remaining = 0;
+  for (int a = 0; a < 3; ++a) remaining += std::abs(static_cast<int>(key_end[a]) - static_cast<int>(key_origin[a]));
   while (true) {
     // OctoMap's choice: t0 < t1 ? (t0 < t2 ? 0 : 2) : (t1 < t2 ? 1 : 2).
     int axis;
     if (t0 < t1 && t0 < t2) {
-      axis = 0, k0 += st0, t0 += d0;
+      axis = 0, t0 += d0;
+      if (!cells.template advance<0>(st0)) return;
     } else if (!(t0 < t1) && t1 < t2) {
-      axis = 1, k1 += st1, t1 += d1;
+      axis = 1, t1 += d1;
+      if (!cells.template advance<1>(st1)) return;
     } else {
-      axis = 2, k2 += st2, t2 += d2;
+      axis = 2, t2 += d2;
+      if (!cells.template advance<2>(st2)) return;
     }
-    if (((k0 | k1 | k2) & ~0xFFFF) != 0) return;
-    if (((k0 ^ e0) | (k1 ^ e1) | (k2 ^ e2)) == 0) return;
+    if (--remaining == 0 && cells.at(key_end)) return;
     // Past the end without entering its cell (rounding): stop, as OctoMap.
     if (std::min(std::min(t0, t1), t2) > limit) return;
-    emit(OctreeKey{static_cast<std::uint16_t>(k0), static_cast<std::uint16_t>(k1), static_cast<std::uint16_t>(k2)},
-         axis);
+    cells.visit(axis);
   }
+}
+
+// The walk_ray policy that hands each cell's key to emit(key, axis), within
+// the tree.
+template <typename Emit>
+class KeyCells {
+ public:
+  explicit KeyCells(Emit& emit) : emit_(emit) {}
+  bool start(const OctreeKey& k) noexcept {
+    k0_ = k.x, k1_ = k.y, k2_ = k.z;
+    return true;
+  }
+  template <int Axis>
+  bool advance(int step) noexcept {
+    int& k = Axis == 0 ? k0_ : (Axis == 1 ? k1_ : k2_);
+    k += step;
+    return static_cast<unsigned>(k) <= 0xFFFFu;
+  }
+  bool at(const OctreeKey& k) const noexcept { return k0_ == k.x && k1_ == k.y && k2_ == k.z; }
+  void visit(int axis) {
+    emit_(OctreeKey{static_cast<std::uint16_t>(k0_), static_cast<std::uint16_t>(k1_), static_cast<std::uint16_t>(k2_)},
+          axis);
+  }
+
+ private:
+  Emit& emit_;
+  int k0_ = 0, k1_ = 0, k2_ = 0;
+};
+
+// Calls emit(key, axis) for every cell walk_ray visits.
+template <typename P, typename Emit>
+inline void traverse_ray(const P origin[3], const P end[3], const OctreeKey& key_origin, const OctreeKey& key_end,
+                         double resolution, Emit&& emit) {
+  KeyCells<std::remove_reference_t<Emit>> cells(emit);
+  walk_ray(origin, end, key_origin, key_end, resolution, cells);
 }
 
 }  // namespace rove::detail

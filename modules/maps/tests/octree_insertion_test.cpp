@@ -148,6 +148,38 @@ TEST(OctreeInsertion, ParallelScansMatchTheOracle) {
   expect_consistent(t);
 }
 
+// Long rays in every direction: their box is too large for the dense cell
+// sets (docs/octree.md), so the scan takes the sparse path, with one thread
+// and with several.
+TEST(OctreeInsertion, LongRaysInEveryDirectionTakeTheSparsePath) {
+  std::mt19937_64 rng(12);
+  std::normal_distribution<float> g(0.0f, 1.0f);
+  std::uniform_real_distribution<float> r(12.0f, 20.0f);
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < 4200; ++i) {
+    const Eigen::Vector3f d = Eigen::Vector3f(g(rng), g(rng), g(rng)).normalized();
+    pts.push_back(d * r(rng));
+  }
+  const Eigen::Vector3d origin(0.12, -0.31, 0.05);
+  OccupancyOctree t1(0.1);
+  t1.enable_change_detection(true);
+  const auto r1 = t1.insert_point_cloud(pts, origin, {.max_range = 18.0});
+  EXPECT_TRUE(r1.ok()) << r1.message;
+  CellOracle oracle(t1);
+  oracle.insert_scan(pts, origin, 18.0);
+  expect_matches_oracle(t1, oracle);
+  expect_consistent(t1);
+  for (int threads : {2, 3}) {
+    OccupancyOctree t(0.1);
+    t.enable_change_detection(true);
+    const auto r = t.insert_point_cloud(pts, origin, {.max_range = 18.0, .num_threads = threads});
+    EXPECT_EQ(r.free_updates, r1.free_updates);
+    EXPECT_EQ(r.occupied_updates, r1.occupied_updates);
+    expect_same_tree(t1, t);
+    EXPECT_EQ(t.changes().size(), t1.changes().size());
+  }
+}
+
 TEST(OctreeInsertion, LazyThenInnerUpdateAndPruneEqualsEager) {
   const auto pts = room_cloud(2000, 7);
   OccupancyOctree eager(0.1), lazy(0.1);
