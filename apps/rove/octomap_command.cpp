@@ -26,6 +26,7 @@
 #include "rove/io/pcd.h"
 #include "rove/io/ply.h"
 #include "rove/io/tum_trajectory.h"
+#include "rove/maps/octree_color_mean.h"
 #include "rove/maps/octree_export.h"
 
 namespace rove::cli {
@@ -42,6 +43,7 @@ struct OctomapBuildOptions {
   std::string mode = "once";
   std::string arithmetic = "double";
   int threads = 1;
+  std::string color = "mean";
   std::string ply, pcd, slice;
   double slice_z = 0.0;
   bool json = false;
@@ -115,9 +117,45 @@ OctreeUpdateMode parse_mode(const std::string& m) {
   return OctreeUpdateMode::OncePerScan;
 }
 
+// What the clouds' colours did (--color).
+struct ColorSummary {
+  std::size_t clouds = 0;  // clouds with colours used
+  std::size_t points = 0;  // points whose colour was used
+  std::size_t leaves = 0;  // leaves coloured by the mean rule
+};
+
+// The tree with the Color channel added (every node white: no colour yet),
+// for when the first coloured cloud comes after clouds without colours.
+OccupancyOctree with_color_channel(const OccupancyOctree& t) {
+  std::vector<OctreeNodeRecord> nodes;
+  nodes.reserve(t.num_nodes());
+  t.for_each_node([&](const OctreeNodeRecord& n) { nodes.push_back(n); });
+  OccupancyOctree c(t.resolution(), t.params(), t.channels() | OctreeChannels::Color);
+  c.assign_preorder(nodes);
+  return c;
+}
+
+// Inserts one cloud, with its colours when --color uses them.
+OctreeInsertResult insert_scan(OccupancyOctree& tree, const Scan& s, const OctreeInsertOptions& io,
+                               const std::string& color, OctreeColorMean& means, ColorSummary& summary) {
+  if (color == "none" || !s.cloud.has_colors()) return tree.insert_point_cloud(s.cloud.points(), s.origin, io);
+  if (!has_channels(tree.channels(), OctreeChannels::Color)) tree = with_color_channel(tree);
+  ++summary.clouds;
+  if (color == "mean") {
+    summary.points += means.add(s.cloud.points(), s.cloud.colors());
+    return tree.insert_point_cloud(s.cloud.points(), s.origin, io);
+  }
+  const OctreeColorUpdate how = color == "set"       ? OctreeColorUpdate::Set
+                                : color == "average" ? OctreeColorUpdate::Average
+                                                     : OctreeColorUpdate::Integrate;
+  const OctreeInsertResult r = tree.insert_point_cloud(s.cloud.points(), s.cloud.colors(), s.origin, io, how);
+  summary.points += r.points - r.skipped_points;
+  return r;
+}
+
 void write_summary_json(const OctomapBuildOptions& o, const OccupancyOctree& t, std::size_t points,
-                        std::size_t skipped, std::size_t occupied, std::size_t leaves, double seconds,
-                        const std::vector<std::string>& outputs, const std::vector<Issue>& issues) {
+                        std::size_t skipped, std::size_t occupied, std::size_t leaves, const ColorSummary& colors,
+                        double seconds, const std::vector<std::string>& outputs, const std::vector<Issue>& issues) {
   JsonWriter j;
   j.begin_object();
   j.key("command").value("octomap build");
@@ -139,6 +177,14 @@ void write_summary_json(const OctomapBuildOptions& o, const OccupancyOctree& t, 
   j.key("leaves").value(static_cast<std::uint64_t>(leaves));
   j.key("occupied_leaves").value(static_cast<std::uint64_t>(occupied));
   j.key("memory_bytes").value(static_cast<std::uint64_t>(t.memory_usage()));
+  j.key("colors");
+  if (colors.clouds == 0) {
+    j.null();
+  } else {
+    j.begin_object().key("rule").value(o.color).key("clouds").value(static_cast<std::uint64_t>(colors.clouds));
+    j.key("points").value(static_cast<std::uint64_t>(colors.points));
+    j.key("mean_leaves").value(static_cast<std::uint64_t>(colors.leaves)).end_object();
+  }
   Eigen::Vector3d lo, hi;
   t.metric_bounds(lo, hi);
   j.key("bounds");
@@ -203,14 +249,17 @@ void run_build(const OctomapBuildOptions& o) {
   io.skip_invalid_points = true;
   io.num_threads = threads;
   std::size_t points = 0, skipped = 0;
+  OctreeColorMean means(o.resolution);
+  ColorSummary colors;
   const Stopwatch clock;
   for (std::size_t i = 0; i < o.inputs.size(); ++i) {
     throw_if_interrupted();
     const Scan s = read_scan(o, i, poses);
-    const OctreeInsertResult r = tree.insert_point_cloud(s.cloud.points(), s.origin, io);
+    const OctreeInsertResult r = insert_scan(tree, s, io, o.color, means, colors);
     points += r.points;
     skipped += r.skipped_points;
   }
+  if (means.cells() > 0) colors.leaves = means.apply(tree);
   const double seconds = clock.elapsed();
 
   std::vector<std::string> written{o.output};
@@ -245,13 +294,22 @@ void run_build(const OctomapBuildOptions& o) {
                                                     skipped, points)});
   }
   if (tree.empty()) issues.push_back({"empty-map", "no point was inserted: the octree is empty"});
+  if (colors.clouds > 0 && out_ext == ".bt") {
+    issues.push_back({"colors-not-written", fmt::format("{} holds no colours (OctoMap's .bt keeps occupancy only): "
+                                                        "write .ot for a ColorOcTree, or give --color none",
+                                                        printable(o.output))});
+  }
   if (o.json) {
-    write_summary_json(o, tree, points, skipped, occupied, leaves, seconds, written, issues);
+    write_summary_json(o, tree, points, skipped, occupied, leaves, colors, seconds, written, issues);
   } else {
     fmt::print("octree: {} clouds, {} points ({} skipped), resolution {} m, mode {}\n", o.inputs.size(), points,
                skipped, o.resolution, o.mode);
     fmt::print("nodes: {} ({} leaves, {} occupied), {:.1f} MB\n", tree.num_nodes(), leaves, occupied,
                static_cast<double>(tree.memory_usage()) / 1048576.0);
+    if (colors.clouds > 0) {
+      fmt::print("colours: {} ({} clouds, {} points{})\n", o.color, colors.clouds, colors.points,
+                 o.color == "mean" ? fmt::format(", {} leaves", colors.leaves) : "");
+    }
     fmt::print("time: {:.3f} s\n", seconds);
     for (const auto& w : written) fmt::print("wrote {}\n", printable(w));
     fmt::print("issues: {}\n", issues.empty() ? "none" : std::to_string(issues.size()));
@@ -302,8 +360,15 @@ void add_octomap_command(CLI::App& app) {
                   fmt::format("Threads, 1 to {}, 0 for all hardware threads (the octree does not depend on it)",
                               kMaxThreads))
       ->capture_default_str();
-  cmd->add_option("--ply", o->ply, "Also write the occupied cells' centres as a PLY cloud; default none");
-  cmd->add_option("--pcd", o->pcd, "Also write the occupied cells' centres as a PCD cloud; default none");
+  cmd->add_option("--color", o->color,
+                  "Colours of the clouds that have them (PLY red green blue, PCD rgb): mean (each leaf the mean "
+                  "colour of the points in it), average, integrate or set (OctoMap's ColorOcTree rules, point after "
+                  "point), none (ignored). With colours the octree is OctoMap's ColorOcTree: write .ot (a .bt keeps "
+                  "no colours)")
+      ->check(CLI::IsMember({"mean", "average", "integrate", "set", "none"}))
+      ->capture_default_str();
+  cmd->add_option("--ply", o->ply, "Also write the occupied cells' centres (with their colours) as a PLY cloud; default none");
+  cmd->add_option("--pcd", o->pcd, "Also write the occupied cells' centres (with their colours) as a PCD cloud; default none");
   cmd->add_option("--slice", o->slice,
                   "Also write the cells at height --slice-z as a ROS map (PREFIX.png, PREFIX.yaml); default none");
   cmd->add_option("--slice-z", o->slice_z, "Height of --slice, m")->check(kFinite)->capture_default_str();

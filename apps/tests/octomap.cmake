@@ -97,10 +97,38 @@ add_test(NAME cli.octomap_build_bad_res COMMAND ${CMAKE_COMMAND}
   -DEXIT=2 "-DREGEX=--res" ${rove_octomap_expect})
 set_tests_properties(cli.octomap_build_bad_res PROPERTIES LABELS cli)
 
+# Coloured clouds make OctoMap's ColorOcTree: each leaf the mean colour of
+# its points by default (two points share a cell here), OctoMap's rules on
+# request; a cloud without colours before them is converted; a .bt keeps no
+# colours, which is reported.
+file(WRITE ${rove_octomap_dir}/colored.ply
+  "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n1.01 0.01 0.01 10 20 30\n1.09 0.02 0.03 31 40 50\n0.01 1.01 0.01 200 0 0\n0.01 0.01 1.01 0 0 255\n")
+add_test(NAME cli.octomap_build_colour_mean COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> octomap build ${rove_octomap_dir}/colored.ply -o ${rove_octomap_dir}/colored.ot --res 0.1"
+  -DEXIT=0 "-DREGEX=colours: mean \\(1 clouds, 4 points, 3 leaves\\).*issues: none"
+  -DFILE=${rove_octomap_dir}/colored.ot "-DFILE_REGEX=^# Octomap OcTree file\n.*id ColorOcTree\nsize [0-9]+\nres 0\\.1\ndata\n"
+  ${rove_octomap_expect})
+set_tests_properties(cli.octomap_build_colour_mean PROPERTIES LABELS cli)
+add_test(NAME cli.octomap_build_colour_after_plain COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> octomap build --json --color average ${rove_octomap_dir}/kept.pcd ${rove_octomap_dir}/colored.ply -o ${rove_octomap_dir}/mixed.ot --res 0.1"
+  -DEXIT=0 "-DREGEX=\"colors\": {\n    \"rule\": \"average\",\n    \"clouds\": 1,\n    \"points\": 4,"
+  -DFILE=${rove_octomap_dir}/mixed.ot "-DFILE_REGEX=\nid ColorOcTree\n"
+  ${rove_octomap_expect})
+set_tests_properties(cli.octomap_build_colour_after_plain PROPERTIES LABELS cli)
+add_test(NAME cli.octomap_build_colour_into_bt COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> octomap build ${rove_octomap_dir}/colored.ply -o ${rove_octomap_dir}/colored.bt"
+  -DEXIT=3 "-DREGEX=rove: warning: colors-not-written: [^\n]*colored\\.bt holds no colours" ${rove_octomap_expect})
+set_tests_properties(cli.octomap_build_colour_into_bt PROPERTIES LABELS cli)
+add_test(NAME cli.octomap_build_colour_none COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> octomap build --color none ${rove_octomap_dir}/colored.ply -o ${rove_octomap_dir}/plain.ot"
+  -DEXIT=0 "-DREGEX=issues: none" -DFILE=${rove_octomap_dir}/plain.ot "-DFILE_REGEX=\nid OcTree\n"
+  ${rove_octomap_expect})
+set_tests_properties(cli.octomap_build_colour_none PROPERTIES LABELS cli)
+
 # Every default is visible in --help.
 add_test(NAME cli.octomap_help_shows_defaults COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> octomap build --help" -DEXIT=0
-  "-DREGEX=--res[^\n]*=0\\.1.*--origin.*default: a PCD.*--poses.*default none.*--max-range[^\n]*=-1.*--mode[^\n]*=once.*--arithmetic[^\n]*=double.*--threads[^\n]*=1.*--ply[^\n]*default none"
+  "-DREGEX=--res[^\n]*=0\\.1.*--origin.*default: a PCD.*--poses.*default none.*--max-range[^\n]*=-1.*--mode[^\n]*=once.*--arithmetic[^\n]*=double.*--threads[^\n]*=1.*--color[^\n]*=mean.*--ply[^\n]*default none"
   ${rove_octomap_expect})
 set_tests_properties(cli.octomap_help_shows_defaults PROPERTIES LABELS cli)
 
@@ -115,3 +143,4 @@ add_test(NAME cli.map_build_octomap_rgbd COMMAND ${CMAKE_COMMAND}
   ${rove_octomap_expect})
 set_tests_properties(cli.map_build_octomap_rgbd PROPERTIES LABELS cli)
 rove_dataset_tests(cli.map_build_octomap_rgbd)
+
