@@ -24,6 +24,7 @@
 #include "rove/maps/grid_clearance.h"
 #include "rove/maps/grid_entropy.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
+#include "rove/maps/metric_map_octree.h"
 #include "rove/maps/multi_metric_map.h"
 #include "rove/slam/metric_map_builder.h"
 
@@ -123,6 +124,14 @@ void run_map_build(const MapBuildArgs& a) {
                                                    e.map->kind())});
       }
     }
+  }
+  for (std::size_t i = 0; i < mm.size(); ++i) {
+    const auto* o = dynamic_cast<const OctreeMetricMap*>(mm.entries()[i].map.get());
+    if (o == nullptr || o->undecoded_velodyne_scans() == 0) continue;
+    issues.push_back({"velodyne-not-decoded",
+                      fmt::format("map {} ({}): {} Velodyne scan{} not inserted: {}", i, o->kind(),
+                                  o->undecoded_velodyne_scans(), o->undecoded_velodyne_scans() == 1 ? "" : "s",
+                                  o->undecoded_velodyne_reason())});
   }
   const char* input_kind = r.input == MapInputKind::kSimpleMap ? "simplemap" : "rawlog";
 

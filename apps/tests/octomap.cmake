@@ -144,3 +144,17 @@ add_test(NAME cli.map_build_octomap_rgbd COMMAND ${CMAKE_COMMAND}
 set_tests_properties(cli.map_build_octomap_rgbd PROPERTIES LABELS cli)
 rove_dataset_tests(cli.map_build_octomap_rgbd)
 
+# Velodyne scans of raw packets are decoded with the calibration they carry
+# (MRPT's VLP-16 test scan); a scan without one is reported, not inserted.
+file(WRITE ${rove_octomap_dir}/velodyne.ini
+  "[MappingApplication]\noctoMap_count=1\n[MappingApplication_octoMap_00_creationOpts]\nresolution=0.2\n")
+add_test(NAME cli.map_build_octomap_velodyne COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> map build ${rove_octomap_dir}/velodyne.ini ${PROJECT_SOURCE_DIR}/data/mrpt/test_velodyne_VLP16.rawlog -o ${rove_octomap_dir}/velodyne"
+  -DEXIT=0 "-DREGEX=map 0 octoMap: [1-9][0-9]+ occupied voxels of [0-9]+ cells[^\n]*, 1 observations inserted"
+  ${rove_octomap_expect})
+set_tests_properties(cli.map_build_octomap_velodyne PROPERTIES LABELS cli)
+add_test(NAME cli.map_build_octomap_velodyne_uncalibrated COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> map build ${rove_octomap_dir}/velodyne.ini ${PROJECT_SOURCE_DIR}/modules/io/tests/data/mrpt_synthetic_velodyne_uncalibrated.rawlog -o ${rove_octomap_dir}/velodyne_uncalibrated"
+  -DEXIT=3 "-DREGEX=rove: warning: velodyne-not-decoded: map 0 \\(octoMap\\): 1 Velodyne scan not inserted: the scan holds 2 raw packets but no per-laser calibration"
+  ${rove_octomap_expect})
+set_tests_properties(cli.map_build_octomap_velodyne_uncalibrated PROPERTIES LABELS cli)

@@ -2,6 +2,8 @@
 //
 //   rove_mrpt_obs_reference dump FILE        > reference.txt
 //   rove_mrpt_obs_reference synthetic DIR
+//   rove_mrpt_obs_reference velodyne-cloud FILE > cloud.txt
+//   rove_mrpt_obs_reference synthetic-velodyne DIR
 //
 // `dump` reads a .rawlog or .simplemap(.gz) with libmrpt and prints, per
 // observation and action, the values rove must read identically (see the
@@ -10,7 +12,14 @@
 // writes small MRPT files exercising the classes and fields the shipped
 // datasets do not (point clouds in Velodyne scans, GNSS message maps, gray
 // and 16-bit images, particle and SOG pose PDFs, range-image layers), and
-// their dumps next to them.
+// their dumps next to them. `velodyne-cloud` decodes every Velodyne scan of
+// a rawlog with generatePointCloud() (default parameters) and prints, per
+// scan, a line "scan K N SX SY SZ SI" (its index among the scans, the point
+// count, the sums of x, y, z and intensity) and every 16th point as
+// "I X Y Z INTENSITY".
+// `synthetic-velodyne` writes Velodyne scans the shipped data lacks: a
+// VLP-16 and an HDL-32E with calibrations whose every correction is not
+// zero, and a VLP-16 in dual-return mode, from pseudo-random returns.
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -38,6 +47,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <map>
@@ -603,6 +613,131 @@ void write_synthetic_simplemap(const std::string& path) {
   ar << sm;
 }
 
+// Pseudo-random bytes (SplitMix64), the same on every platform.
+struct Mix {
+  std::uint64_t s;
+  std::uint64_t next() {
+    std::uint64_t z = (s += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+};
+
+// A calibration of n lasers with the nominal elevations of a VLP-16 (n = 16)
+// or HDL-32E (n = 32), degrees, and small corrections of every kind.
+obs::VelodyneCalibration synthetic_calibration(int n) {
+  obs::VelodyneCalibration c;
+  c.laser_corrections.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    auto& l = c.laser_corrections[static_cast<std::size_t>(i)];
+    l.verticalCorrection = n == 16 ? (i % 2 == 0 ? -15.0 + i : i) + 0.01 * i
+                                   : -30.67 + 1.33 * (i / 2 + (i % 2) * 16) + 0.02 * (i % 3);
+    l.azimuthCorrection = 0.3 * (i % 5) - 0.6;
+    l.distanceCorrection = 0.01 * i - 0.05;
+    l.verticalOffsetCorrection = 0.002 * i + 0.01;
+    l.horizontalOffsetCorrection = 0.003 * (i % 4) - 0.004;
+    l.sinVertCorrection = std::sin(l.verticalCorrection * M_PI / 180.0);
+    l.cosVertCorrection = std::cos(l.verticalCorrection * M_PI / 180.0);
+    l.sinVertOffsetCorrection = l.verticalOffsetCorrection * l.sinVertCorrection;
+    l.cosVertOffsetCorrection = l.verticalOffsetCorrection * l.cosVertCorrection;
+  }
+  return c;
+}
+
+// A scan of `packets` packets: azimuths from `azimuth0` (hundredths of a
+// degree) advancing `step` per block (per pair of blocks in dual mode).
+std::shared_ptr<obs::CObservationVelodyneScan> synthetic_scan(std::uint8_t model, std::uint8_t mode, int packets,
+                                                               int azimuth0, int step, std::uint64_t seed) {
+  auto v = std::make_shared<obs::CObservationVelodyneScan>();
+  v->timestamp = at_ticks(133000000000000000ULL + seed);
+  v->sensorLabel = "VELO";
+  v->minRange = 1.0;
+  v->maxRange = 120.0;
+  v->calibration = synthetic_calibration(model == 0x21 ? 32 : 16);
+  v->scan_packets.resize(static_cast<std::size_t>(packets));
+  Mix mix{seed};
+  int azimuth = azimuth0;
+  for (int p = 0; p < packets; ++p) {
+    auto* bytes = reinterpret_cast<std::uint8_t*>(&v->scan_packets[static_cast<std::size_t>(p)]);
+    for (int b = 0; b < 12; ++b) {
+      std::uint8_t* blk = bytes + 100 * b;
+      blk[0] = 0xFF, blk[1] = 0xEE;
+      if (mode == 0x39 && b % 2 == 1) {
+        azimuth -= step;  // the second block of a pair repeats the azimuth
+      }
+      const int a = ((azimuth % 36000) + 36000) % 36000;
+      blk[2] = std::uint8_t(a & 0xFF), blk[3] = std::uint8_t(a >> 8);
+      azimuth += step;
+      for (int r = 0; r < 32; ++r) {
+        const std::uint64_t x = mix.next();
+        int d = int(x % 60000);
+        if (x % 23 == 0) d = 0;
+        if (x % 29 == 0) d = int(x % 500);
+        blk[4 + 3 * r] = std::uint8_t(d & 0xFF), blk[5 + 3 * r] = std::uint8_t(d >> 8);
+        blk[6 + 3 * r] = std::uint8_t(x >> 40);
+      }
+    }
+    bytes[1200] = bytes[1201] = bytes[1202] = bytes[1203] = 0;
+    bytes[1204] = mode;
+    bytes[1205] = model;
+  }
+  return v;
+}
+
+// DIR/mrpt_synthetic_velodyne.rawlog (the three scans) and
+// DIR/mrpt_synthetic_velodyne_uncalibrated.rawlog (a VLP-16 scan without
+// its calibration, which cannot be decoded).
+void write_synthetic_velodyne(const std::string& dir) {
+  {
+    io::CFileOutputStream f(dir + "/mrpt_synthetic_velodyne.rawlog");
+    auto ar = serialization::archiveFrom(f);
+    ar << *synthetic_scan(0x22, 0x37, 6, 35500, 20, 1);
+    ar << *synthetic_scan(0x21, 0x37, 4, 1000, 15, 2);
+    ar << *synthetic_scan(0x22, 0x39, 6, 18000, 40, 3);
+  }
+  io::CFileOutputStream f(dir + "/mrpt_synthetic_velodyne_uncalibrated.rawlog");
+  auto ar = serialization::archiveFrom(f);
+  auto v = synthetic_scan(0x22, 0x37, 2, 100, 20, 4);
+  v->calibration.clear();
+  ar << *v;
+}
+
+int velodyne_clouds(const char* path) {
+  io::CFileGZInputStream f(path);
+  auto ar = serialization::archiveFrom(f);
+  std::printf("# libmrpt 2.5.8 generatePointCloud() of the Velodyne scans in %s\n", path);
+  int k = 0;  // Velodyne scans seen
+  const auto print = [&](const obs::CObservation& o) {
+    const auto* v = dynamic_cast<const obs::CObservationVelodyneScan*>(&o);
+    if (v == nullptr) return;
+    obs::CObservationVelodyneScan copy(*v);
+    copy.generatePointCloud();
+    const auto& pc = copy.point_cloud;
+    double sx = 0, sy = 0, sz = 0, si = 0;
+    for (std::size_t i = 0; i < pc.size(); ++i) sx += pc.x[i], sy += pc.y[i], sz += pc.z[i], si += pc.intensity[i];
+    std::printf("scan %d %zu %.17g %.17g %.17g %.17g\n", k, pc.size(), sx, sy, sz, si);
+    for (std::size_t i = 0; i < pc.size(); i += 16) {
+      std::printf("%zu %.9g %.9g %.9g %u\n", i, pc.x[i], pc.y[i], pc.z[i], unsigned(pc.intensity[i]));
+    }
+    ++k;
+  };
+  for (;;) {
+    serialization::CSerializable::Ptr o;
+    try {
+      ar >> o;
+    } catch (const std::exception&) {
+      break;
+    }
+    if (auto sf = std::dynamic_pointer_cast<obs::CSensoryFrame>(o)) {
+      for (const auto& x : *sf) print(*x);
+    } else if (auto ob = std::dynamic_pointer_cast<obs::CObservation>(o)) {
+      print(*ob);
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -611,6 +746,11 @@ int main(int argc, char** argv) {
   rtti::registerClassCustomName("CObservationRotatingScan",
                                 CLASS_ID(obs::CObservationRotatingScan));
   if (argc == 3 && std::strcmp(argv[1], "dump") == 0) return dump(argv[2]);
+  if (argc == 3 && std::strcmp(argv[1], "velodyne-cloud") == 0) return velodyne_clouds(argv[2]);
+  if (argc == 3 && std::strcmp(argv[1], "synthetic-velodyne") == 0) {
+    write_synthetic_velodyne(argv[2]);
+    return 0;
+  }
   if (argc == 3 && std::strcmp(argv[1], "synthetic") == 0) {
     const std::string dir = argv[2];
     write_synthetic_rawlog(dir + "/mrpt_synthetic_sensors.rawlog");
@@ -618,6 +758,6 @@ int main(int argc, char** argv) {
     write_synthetic_simplemap(dir + "/mrpt_synthetic_pdfs.simplemap.gz");
     return 0;
   }
-  std::fprintf(stderr, "usage: %s dump FILE | synthetic DIR\n", argv[0]);
+  std::fprintf(stderr, "usage: %s dump FILE | synthetic DIR | velodyne-cloud FILE | synthetic-velodyne DIR\n", argv[0]);
   return 2;
 }

@@ -7,6 +7,7 @@
 #include "rove/maps/point_map.h"
 #include "rove/obs/range_image_3d.h"
 #include "rove/obs/range_scan_2d.h"
+#include "rove/obs/velodyne_decode.h"
 #include "rove/obs/velodyne_scan.h"
 
 namespace rove {
@@ -49,8 +50,10 @@ void add_sensor_points(const Pose3& T_map_sensor, const float* x, const float* y
 }
 
 // The points of an observation in the map frame and its sensor's origin;
-// false for a kind without points.
-bool points_of(const Observation& o, const Pose3& T_map_robot, bool want_colors, ScanPoints& sp) {
+// false for a kind without points, or a Velodyne scan whose packets cannot
+// be decoded (then `undecoded` says why).
+bool points_of(const Observation& o, const Pose3& T_map_robot, bool want_colors, ScanPoints& sp,
+               std::string* undecoded = nullptr) {
   const Pose3 T_map_sensor = T_map_robot + o.T_robot_sensor;
   sp.origin = T_map_sensor.translation();
   if (const auto* scan = dynamic_cast<const RangeScan2D*>(&o)) {
@@ -77,8 +80,17 @@ bool points_of(const Observation& o, const Pose3& T_map_robot, bool want_colors,
   }
   if (const auto* velo = dynamic_cast<const VelodyneScan*>(&o)) {
     const auto& c = velo->point_cloud;
-    if (c.x.empty()) return false;
-    add_sensor_points(T_map_sensor, c.x.data(), c.y.data(), c.z.data(), c.x.size(), sp.p_map);
+    if (!c.x.empty()) {
+      add_sensor_points(T_map_sensor, c.x.data(), c.y.data(), c.z.data(), c.x.size(), sp.p_map);
+      return true;
+    }
+    if (velo->packets.empty()) return false;
+    const VelodyneDecodeResult d = decode_velodyne_scan(*velo);
+    if (!d.ok()) {
+      if (undecoded != nullptr) *undecoded = d.message;
+      return false;
+    }
+    add_sensor_points(T_map_sensor, d.cloud.x.data(), d.cloud.y.data(), d.cloud.z.data(), d.cloud.x.size(), sp.p_map);
     return true;
   }
   return false;
@@ -104,7 +116,14 @@ std::string_view OctreeMetricMap::kind() const noexcept {
 bool OctreeMetricMap::insert(const Observation& observation, const Pose3& T_map_robot) {
   const bool colour = has_channels(tree_.channels(), OctreeChannels::Color);
   ScanPoints sp;
-  if (!points_of(observation, T_map_robot, colour, sp)) return false;
+  std::string undecoded;
+  if (!points_of(observation, T_map_robot, colour, sp, &undecoded)) {
+    if (!undecoded.empty()) {
+      ++undecoded_velodyne_;
+      undecoded_reason_ = std::move(undecoded);
+    }
+    return false;
+  }
   OctreeInsertOptions o;
   o.max_range = insert_options.max_range;
   o.lazy = !insert_options.pruning;
@@ -137,6 +156,8 @@ double OctreeMetricMap::log_likelihood(const Observation& observation, const Pos
 
 void OctreeMetricMap::clear() {
   tree_ = OccupancyOctree(tree_.resolution(), insert_options.sensor, tree_.channels());
+  undecoded_velodyne_ = 0;
+  undecoded_reason_.clear();
 }
 
 MapBounds OctreeMetricMap::bounding_box() const {

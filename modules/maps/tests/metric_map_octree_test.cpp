@@ -1,5 +1,6 @@
 // OctreeMetricMap: MRPT's octoMap / colourOctoMap in a multi-metric map.
 #include "rove/maps/metric_map_octree.h"
+#include "rove/obs/velodyne_decode.h"
 
 #include <cmath>
 
@@ -95,6 +96,66 @@ TEST(OctreeMetricMap, InsertsVelodyneCloudsFromTheSensorOrigin) {
   EXPECT_FALSE(m.insert(empty, T_map_robot));
   m.clear();
   EXPECT_TRUE(m.empty());
+}
+
+// A VLP-16 scan of raw packets only (pseudo-random returns, nominal
+// calibration), as rawlogs from MRPT's grabber hold them.
+VelodyneScan raw_vlp16_scan() {
+  VelodyneScan v;
+  v.T_robot_sensor = Pose3(0.1, 0.0, 1.0, 0.0, 0.0, 0.0);
+  for (int i = 0; i < 16; ++i) {
+    VelodyneLaserCalibration c;
+    c.vertical_correction = i % 2 == 0 ? -15.0 + i : i;
+    c.sin_vert_correction = std::sin(c.vertical_correction * M_PI / 180.0);
+    c.cos_vert_correction = std::cos(c.vertical_correction * M_PI / 180.0);
+    v.calibration.push_back(c);
+  }
+  std::uint64_t x = 7;
+  for (int p = 0; p < 20; ++p) {
+    VelodynePacket pk{};
+    for (int b = 0; b < 12; ++b) {
+      const int a = (p * 12 + b) * 150 % 36000;
+      pk[static_cast<std::size_t>(100 * b)] = 0xFF, pk[static_cast<std::size_t>(100 * b + 1)] = 0xEE;
+      pk[static_cast<std::size_t>(100 * b + 2)] = static_cast<std::uint8_t>(a & 0xFF);
+      pk[static_cast<std::size_t>(100 * b + 3)] = static_cast<std::uint8_t>(a >> 8);
+      for (int r = 0; r < 32; ++r) {
+        x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+        const auto d = static_cast<std::uint16_t>(1000 + (x >> 33) % 2000);  // 2 to 6 m
+        const auto at = static_cast<std::size_t>(100 * b + 4 + 3 * r);
+        pk[at] = static_cast<std::uint8_t>(d & 0xFF), pk[at + 1] = static_cast<std::uint8_t>(d >> 8);
+      }
+    }
+    pk[1204] = 0x37, pk[1205] = 0x22;
+    v.packets.push_back(pk);
+  }
+  return v;
+}
+
+TEST(OctreeMetricMap, DecodesVelodynePacketsWithTheirCalibration) {
+  const Pose3 T_map_robot(0.5, -0.3, 0.0, 0.4, 0.0, 0.0);
+  VelodyneScan raw = raw_vlp16_scan();
+  OctreeMetricMap from_packets(0.1), from_cloud(0.1);
+  ASSERT_TRUE(from_packets.insert(raw, T_map_robot));
+  EXPECT_EQ(from_packets.undecoded_velodyne_scans(), 0u);
+  // The same as inserting the decoded cloud stored in the scan.
+  VelodyneScan decoded = raw;
+  decoded.point_cloud = decode_velodyne_scan(raw).cloud;
+  ASSERT_EQ(decoded.point_cloud.x.size(), 20u * 12u * 32u);
+  ASSERT_TRUE(from_cloud.insert(decoded, T_map_robot));
+  EXPECT_EQ(from_packets.statistics().elements, from_cloud.statistics().elements);
+  EXPECT_EQ(from_packets.statistics().total_cells, from_cloud.statistics().total_cells);
+  EXPECT_GT(from_packets.statistics().elements, 1000u);
+  // Without its calibration the scan cannot be decoded: not inserted, and
+  // the map says why.
+  raw.calibration.clear();
+  OctreeMetricMap m(0.1);
+  EXPECT_FALSE(m.insert(raw, T_map_robot));
+  EXPECT_FALSE(m.insert(raw, T_map_robot));
+  EXPECT_TRUE(m.empty());
+  EXPECT_EQ(m.undecoded_velodyne_scans(), 2u);
+  EXPECT_NE(m.undecoded_velodyne_reason().find("calibration"), std::string::npos) << m.undecoded_velodyne_reason();
+  m.clear();
+  EXPECT_EQ(m.undecoded_velodyne_scans(), 0u);
 }
 
 TEST(OctreeMetricMap, Inserts2DScansAndRangeImagePoints) {

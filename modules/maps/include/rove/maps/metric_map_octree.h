@@ -17,7 +17,10 @@
 ///    else its depth image projected; the colour map takes each point's
 ///    colour from the intensity image (integrated as OctoMap's
 ///    integrateNodeColor);
-///  - VelodyneScan: its decoded point cloud (none: not inserted).
+///  - VelodyneScan: its stored point cloud, else its raw packets decoded
+///    with the calibration it carries (decode_velodyne_scan, every return);
+///    a scan with packets but no usable calibration is not inserted and is
+///    counted (undecoded_velodyne_scans()).
 /// Points at the sensor's origin ((0, 0, 0), MRPT's invalid points), not
 /// finite or outside the tree are skipped. Points are mapped with the
 /// sensor's pose on the robot, T_map_robot ⊕ T_robot_sensor ⊕ p (MRPT's
@@ -91,8 +94,16 @@ class OctreeMetricMap final : public MetricMap {
   MapBounds bounding_box() const override;               ///< box of the known cells
   MapStatistics statistics() const override;             ///< occupied leaves, all leaves
 
+  /// Velodyne scans given to insert() whose raw packets could not be
+  /// decoded (no calibration, or one for an unsupported sensor).
+  std::size_t undecoded_velodyne_scans() const noexcept { return undecoded_velodyne_; }
+  /// Why the last of them could not be decoded (empty if none).
+  const std::string& undecoded_velodyne_reason() const noexcept { return undecoded_reason_; }
+
  private:
   OccupancyOctree tree_;
+  std::size_t undecoded_velodyne_ = 0;
+  std::string undecoded_reason_;
 };
 
 /// Factory used by MultiMetricMap (reads and checks `<prefix>_creationOpts`

@@ -48,19 +48,20 @@ std::uint8_t velodyne_return_intensity(const VelodynePacket& p, std::size_t bloc
 /// GPS time stamp of the packet, microseconds since the top of the hour.
 std::uint32_t velodyne_gps_timestamp(const VelodynePacket& p);
 
-/// Calibration of one laser (MRPT's VelodyneCalibration::PerLaserCalib):
-/// angles in radians, distances in meters, as the calibration XML converted
-/// by MRPT.
+/// Calibration of one laser (MRPT's VelodyneCalibration::PerLaserCalib), as
+/// MRPT stores it: angles in degrees, distances in meters, the sine and
+/// cosine of the vertical angle, and the vertical offset times them.
+/// decode_velodyne_scan (velodyne_decode.h) uses it.
 struct VelodyneLaserCalibration {
-  double azimuth_correction = 0.0;            ///< rad
-  double vertical_correction = 0.0;           ///< rad
+  double azimuth_correction = 0.0;            ///< degrees
+  double vertical_correction = 0.0;           ///< degrees
   double distance_correction = 0.0;           ///< m
   double vertical_offset_correction = 0.0;    ///< m
   double horizontal_offset_correction = 0.0;  ///< m
   double sin_vert_correction = 0.0;           ///< sin(vertical_correction)
   double cos_vert_correction = 1.0;           ///< cos(vertical_correction)
-  double sin_vert_offset_correction = 0.0;    ///< precomputed by MRPT
-  double cos_vert_offset_correction = 1.0;    ///< precomputed by MRPT
+  double sin_vert_offset_correction = 0.0;    ///< vertical offset · sin, by MRPT
+  double cos_vert_offset_correction = 1.0;    ///< vertical offset · cos, by MRPT
   /// Exact equality.
   friend bool operator==(const VelodyneLaserCalibration&,
                          const VelodyneLaserCalibration&) = default;
