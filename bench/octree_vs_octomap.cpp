@@ -4,7 +4,7 @@
 //   - insertion of the scan into an empty tree at 0.2, 0.1 and 0.05 m
 //     (OctoMap's insertPointCloud with its defaults; rove's
 //     insert_point_cloud, 1 and 2 threads), median wall time of --reps runs,
-//     interleaved; nodes; the tree's memory (OctoMap's memoryUsage(), rove's
+//     interleaved, and for one thread the median CPU time of the thread; nodes; the tree's memory (OctoMap's memoryUsage(), rove's
 //     memory_usage()) and the peak RSS an insertion adds, each in a fresh
 //     process of its own;
 //   - point queries (search) at 2,000,000 random points and ray casts
@@ -44,6 +44,22 @@ double cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// CPU time of the calling thread, seconds: on a shared machine it leaves
+// out the time other processes held the core (not their effect on caches).
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Wall time of f, and the calling thread's CPU time in `cpu`.
+double seconds_of(const std::function<void()>& f, double& cpu) {
+  const double c0 = thread_cpu_seconds();
+  const double s = seconds_of(f);
+  cpu = thread_cpu_seconds() - c0;
+  return s;
 }
 
 double median(std::vector<double> v) {
@@ -86,6 +102,7 @@ octomap::Pointcloud to_octomap(const std::vector<Eigen::Vector3f>& pts) {
 struct Row {
   double res;
   double octomap_ms, rove1_ms, rove2_ms, rove_octomap_arith_ms;
+  double octomap_cpu_ms, rove1_cpu_ms;  // one thread: the calling thread's CPU time
   std::size_t octomap_nodes, rove_nodes;
   double octomap_mem_mb, rove_mem_mb, octomap_rss_mb, rove_rss_mb;
 };
@@ -102,13 +119,18 @@ Row insertion(double res, const std::vector<Eigen::Vector3f>& pts, const octomap
     t.insert_point_cloud(pts, Eigen::Vector3d::Zero(), o);
     return t;
   };
-  std::vector<double> om, r1, r2, ra;
+  std::vector<double> om, r1, r2, ra, om_cpu, r1_cpu;
   for (int i = 0; i < reps; ++i) {
-    om.push_back(seconds_of([&] {
-      octomap::OcTree t(res);
-      t.insertPointCloud(cloud, origin);
-    }));
-    r1.push_back(seconds_of([&] { rove_run(1, rove::OctreeRayArithmetic::Double); }));
+    double cpu = 0.0;
+    om.push_back(seconds_of(
+        [&] {
+          octomap::OcTree t(res);
+          t.insertPointCloud(cloud, origin);
+        },
+        cpu));
+    om_cpu.push_back(cpu);
+    r1.push_back(seconds_of([&] { rove_run(1, rove::OctreeRayArithmetic::Double); }, cpu));
+    r1_cpu.push_back(cpu);
     r2.push_back(seconds_of([&] { rove_run(2, rove::OctreeRayArithmetic::Double); }));
     ra.push_back(seconds_of([&] { rove_run(1, rove::OctreeRayArithmetic::OctoMap); }));
   }
@@ -116,6 +138,8 @@ Row insertion(double res, const std::vector<Eigen::Vector3f>& pts, const octomap
   r.rove1_ms = 1e3 * median(r1);
   r.rove2_ms = 1e3 * median(r2);
   r.rove_octomap_arith_ms = 1e3 * median(ra);
+  r.octomap_cpu_ms = 1e3 * median(om_cpu);
+  r.rove1_cpu_ms = 1e3 * median(r1_cpu);
   {
     octomap::OcTree t(res);
     t.insertPointCloud(cloud, origin);
@@ -250,13 +274,14 @@ int main(int argc, char** argv) {
   std::getline(la, load);
   std::printf("%s\n\n", load.c_str());
   std::printf("insertion  OctoMap ms  rove ms (1 thr)  rove ms (2 thr)  rove ms (octomap arith.)  OctoMap/rove (1, 2 thr)"
-              "  nodes OctoMap/rove  tree MB OctoMap/rove  peak RSS added MB OctoMap/rove\n");
+              "  CPU ms OctoMap/rove (1 thr)  nodes OctoMap/rove  tree MB OctoMap/rove  peak RSS added MB OctoMap/rove\n");
   for (double res : {0.2, 0.1, 0.05}) {
     const Row r = insertion(res, pts, cloud, reps);
-    std::printf("%.2f m %12.1f %16.1f %16.1f %25.1f %12.1fx %6.1fx %10zu / %-9zu %8.1f / %-8.1f %10.1f / %.1f\n", r.res,
-                r.octomap_ms, r.rove1_ms, r.rove2_ms, r.rove_octomap_arith_ms, r.octomap_ms / r.rove1_ms,
-                r.octomap_ms / r.rove2_ms, r.octomap_nodes, r.rove_nodes, r.octomap_mem_mb, r.rove_mem_mb,
-                r.octomap_rss_mb, r.rove_rss_mb);
+    std::printf("%.2f m %12.1f %16.1f %16.1f %25.1f %12.1fx %6.1fx %10.1f / %-7.1f %5.1fx %10zu / %-9zu %8.1f / %-8.1f "
+                "%10.1f / %.1f\n",
+                r.res, r.octomap_ms, r.rove1_ms, r.rove2_ms, r.rove_octomap_arith_ms, r.octomap_ms / r.rove1_ms,
+                r.octomap_ms / r.rove2_ms, r.octomap_cpu_ms, r.rove1_cpu_ms, r.octomap_cpu_ms / r.rove1_cpu_ms,
+                r.octomap_nodes, r.rove_nodes, r.octomap_mem_mb, r.rove_mem_mb, r.octomap_rss_mb, r.rove_rss_mb);
     std::fflush(stdout);
   }
   queries(pts, cloud, reps);
