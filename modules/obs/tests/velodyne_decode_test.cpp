@@ -1,6 +1,6 @@
 // decode_velodyne_scan on packets built here, against the geometry and
 // timing written out (velodyne_decode.h); MRPT's own output is the oracle
-// of the io tests (mrpt_velodyne_test.cpp).
+// of the io tests (velodyne_mrpt_test.cpp).
 #include <cmath>
 #include <numbers>
 
