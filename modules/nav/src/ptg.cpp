@@ -177,18 +177,37 @@ VelocityCommand Ptg::command(int k) const {
   return {v, 0.0, w};
 }
 
+// Samples are stored every `step` of distance along the path, give or take
+// one integration step (a quarter of `step`), and the distance along the
+// path bounds the distance in the plane: from a sample at distance e from
+// the point, the next j samples are at least e − (j + 1)·step away. The
+// scans below skip those that cannot come nearer than `best`.
+namespace {
+
+// Samples to advance when the current one is `gap` farther than the best
+// (gap may be −inf while there is no best yet).
+std::size_t skip(double gap, double step) {
+  return gap > 2 * step ? static_cast<std::size_t>(gap / step - 1.0) : std::size_t{1};
+}
+
+}  // namespace
+
 double Ptg::inverse_map(const Eigen::Vector2d& p, int& k, double& d) const {
+  const double step = 0.5 * o_.resolution;
   double best = std::numeric_limits<double>::infinity();
   k = o_.num_paths / 2;
   d = 0;
   for (int j = 0; j < o_.num_paths; ++j) {
-    for (const Sample& s : paths_[static_cast<std::size_t>(j)]) {
+    const auto& path = paths_[static_cast<std::size_t>(j)];
+    for (std::size_t i = 0; i < path.size();) {
+      const Sample& s = path[i];
       const double e = std::hypot(s.x - p.x(), s.y - p.y());
       if (e < best - 1e-9 || (e < best + 1e-9 && s.d < d)) {
         best = e;
         k = j;
         d = s.d;
       }
+      i += skip(e - best, step);
     }
   }
   return best;
@@ -213,10 +232,13 @@ void Ptg::free_distances(const std::vector<Eigen::Vector2d>& obstacles, std::vec
 
 double Ptg::distance_to_path(int k, double up_to, const Eigen::Vector2d& p) const {
   ROVE_CHECK_MSG(k >= 0 && k < o_.num_paths, "trajectory {} outside [0, {})", k, o_.num_paths);
+  const double step = 0.5 * o_.resolution;
   double best = std::numeric_limits<double>::infinity();
-  for (const Sample& s : paths_[static_cast<std::size_t>(k)]) {
-    if (s.d > up_to + 1e-9) break;
-    best = std::min(best, std::hypot(s.x - p.x(), s.y - p.y()));
+  const auto& path = paths_[static_cast<std::size_t>(k)];
+  for (std::size_t i = 0; i < path.size() && path[i].d <= up_to + 1e-9;) {
+    const double e = std::hypot(path[i].x - p.x(), path[i].y - p.y());
+    best = std::min(best, e);
+    i += skip(e - best, step);
   }
   return best;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "nav_test_worlds.h"
@@ -91,6 +92,28 @@ TEST(Ptg, FreeDistancesMatchMarchingTheFootprint) {
     const Eigen::Vector2d on = ptg.pose_at(20, 1.5).translation();
     EXPECT_LT(ptg.inverse_map(on, k, d), 1e-6);
     EXPECT_NEAR((ptg.pose_at(k, d).translation() - on).norm(), 0.0, 1e-6);
+  }
+  // inverse_map and distance_to_path against scanning every sample.
+  const Ptg ptg(small_ptg(PtgFamily::DiffDriveAlpha));
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-5.0, 5.0);
+  for (int t = 0; t < 50; ++t) {
+    const Eigen::Vector2d p(u(rng), u(rng));
+    double best = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < ptg.path_count(); ++j) {
+      double along = std::numeric_limits<double>::infinity();
+      // Every sample (pose_at rounds to the nearest one and clamps at the end).
+      for (int m = 0; m <= static_cast<int>(ptg.path_length(j) / 0.025) + 2; ++m) {
+        along = std::min(along, (ptg.pose_at(j, 0.025 * m).translation() - p).norm());
+      }
+      best = std::min(best, along);
+      EXPECT_NEAR(ptg.distance_to_path(j, ptg.path_length(j), p), along, 1e-5) << j;
+    }
+    int k = 0;
+    double d = 0;
+    const double e = ptg.inverse_map(p, k, d);
+    EXPECT_NEAR(e, best, 1e-5);
+    EXPECT_NEAR((ptg.pose_at(k, d).translation() - p).norm(), e, 1e-5);
   }
   PtgOptions bad = small_ptg(PtgFamily::DiffDriveC);
   bad.num_paths = 2;
