@@ -60,8 +60,17 @@ NavigationRunOptions run_options(const NavRunArgs& a, std::vector<std::string>& 
       return o;
     }
     const ConfigSection teb(ini, "TEB");
+    const TebOptions robot = o.teb;
     o.teb = TebOptions::from_config(teb);
     teb.check_all_read();
+    // What the section leaves out stays as the command line's robot sets it.
+    for (const auto& [key, field] :
+         {std::pair{"robot_radius", &TebOptions::robot_radius}, {"max_vel_x", &TebOptions::max_vel_x},
+          {"max_vel_theta", &TebOptions::max_vel_theta}, {"min_obstacle_dist", &TebOptions::min_obstacle_dist},
+          {"penalty_epsilon", &TebOptions::penalty_epsilon}}) {
+      if (!teb.has(key)) o.teb.*field = robot.*field;
+    }
+    o.teb.check();
     return o;
   }
   std::vector<IgnoredConfigKey> ignored;
