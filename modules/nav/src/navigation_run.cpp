@@ -67,12 +67,23 @@ NavigationRunOptions NavigationRunOptions::for_robot(double radius, double max_v
   o.teb.max_vel_theta = max_omega;
   o.teb.min_obstacle_dist = 0.1;
   o.teb.penalty_epsilon = 0.05;
+  // The reactive navigator sized for a small robot among clutter: PTGs of
+  // 5 m, and the normalized distances (fractions of those 5 m) of its
+  // speed ramps and of the directions too close to take brought down to
+  // the robot's scale (MRPT's file has 10 m and 0.05 / 0.15 / 0.15).
   o.reactive = ReactiveNavigatorOptions::defaults(radius + 0.1);
   o.reactive.robot_max_v = max_v;
   o.reactive.robot_max_w = max_omega;
+  o.reactive.ref_distance = 5.0;
+  o.reactive.secure_distance_start = 0.01;
+  o.reactive.secure_distance_end = 0.10;
+  o.reactive.full_eval.too_close_obstacle = 0.02;
+  o.reactive.full_eval.obstacle_slow_down_distance = 0.10;
+  o.reactive.nd.too_close_obstacle = 0.02;
   for (PtgOptions& p : o.reactive.ptgs) {
     p.v_max = max_v;
     p.w_max = max_omega;
+    p.ref_distance = 5.0;
   }
   return o;
 }

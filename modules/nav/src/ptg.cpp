@@ -123,7 +123,9 @@ void Ptg::build_grid() {
   cells_ = static_cast<int>(std::ceil(2 * half_ / res));
   const auto cell_count = static_cast<std::uint64_t>(cells_) * static_cast<std::uint64_t>(cells_);
   check_memory_budget(checked_bytes(cell_count, 8), fmt::format("the collision grid of a PTG ({} x {} cells)", cells_, cells_));
-  // A cell is covered by a sample when the footprint reaches any of it.
+  // A cell is covered by a sample when the footprint holds its center
+  // (an obstacle point is taken at its cell's center: off by at most
+  // res/√2, which the footprint's margin over the robot absorbs).
   const int reach = static_cast<int>(std::ceil(r / res)) + 1;
   std::vector<std::int32_t> last_k(static_cast<std::size_t>(cell_count), -1);
   const auto visit = [&](auto&& on_hit) {
@@ -134,11 +136,9 @@ void Ptg::build_grid() {
         const int cx = static_cast<int>(std::floor((path[s].x + half_) / res));
         const int cy = static_cast<int>(std::floor((path[s].y + half_) / res));
         for (int y = std::max(0, cy - reach); y <= std::min(cells_ - 1, cy + reach); ++y) {
-          const double ly = -half_ + y * res;
-          const double dy = std::max({ly - path[s].y, 0.0, path[s].y - (ly + res)});
+          const double dy = -half_ + (y + 0.5) * res - path[s].y;
           for (int x = std::max(0, cx - reach); x <= std::min(cells_ - 1, cx + reach); ++x) {
-            const double lx = -half_ + x * res;
-            const double dx = std::max({lx - path[s].x, 0.0, path[s].x - (lx + res)});
+            const double dx = -half_ + (x + 0.5) * res - path[s].x;
             if (dx * dx + dy * dy > r * r) continue;
             const std::size_t c = static_cast<std::size_t>(x) + static_cast<std::size_t>(y) * cells_;
             if (last_k[c] == k) continue;
@@ -216,11 +216,28 @@ double Ptg::inverse_map(const Eigen::Vector2d& p, int& k, double& d) const {
 void Ptg::free_distances(const std::vector<Eigen::Vector2d>& obstacles, std::vector<double>& free) const {
   free.resize(static_cast<std::size_t>(o_.num_paths));
   for (int k = 0; k < o_.num_paths; ++k) free[static_cast<std::size_t>(k)] = path_length(k);
-  const double res = o_.resolution, step = 0.5 * res;
+  const double res = o_.resolution, step = 0.5 * res, r = o_.robot_radius;
   for (const Eigen::Vector2d& p : obstacles) {
     const int x = static_cast<int>(std::floor((p.x() + half_) / res));
     const int y = static_cast<int>(std::floor((p.y() + half_) / res));
     if (x < 0 || y < 0 || x >= cells_ || y >= cells_) continue;
+    const Eigen::Vector2d center(-half_ + (x + 0.5) * res, -half_ + (y + 0.5) * res);
+    if (center.norm() <= r) {
+      // Already inside the footprint (the robot nearer to it than the
+      // footprint's margin): it blocks a trajectory only where the
+      // trajectory comes nearer to it than the robot is now.
+      const double now = center.norm() - 0.01;
+      for (int k = 0; k < o_.num_paths; ++k) {
+        const auto& path = paths_[static_cast<std::size_t>(k)];
+        for (std::size_t i = 1; i < path.size() && path[i - 1].d < free[static_cast<std::size_t>(k)]; ++i) {
+          if (std::hypot(path[i].x - center.x(), path[i].y - center.y()) < now) {
+            free[static_cast<std::size_t>(k)] = std::min<double>(free[static_cast<std::size_t>(k)], path[i - 1].d);
+            break;
+          }
+        }
+      }
+      continue;
+    }
     const std::size_t c = static_cast<std::size_t>(x) + static_cast<std::size_t>(y) * cells_;
     for (std::uint32_t h = cell_start_[c]; h < cell_start_[c + 1]; ++h) {
       // The last sample before the touching one is the free distance.

@@ -87,10 +87,14 @@ ReactiveResult ReactiveNavigator::step(const SE2d& T_map_robot, const std::vecto
     const double index_near = std::exp(-std::abs(dif / (n / 10.0)));
     const double score = ptg.options().score_priority *
                          (0.3 * target_distance + 0.5 * cfd_score + 8.0 * nearness + 0.1 * hysteresis + 0.2 * index_near);
-    // The secure-distance ramp on the free distance ahead.
-    const double ramp = std::clamp((cfd - options_.secure_distance_start) /
-                                       (options_.secure_distance_end - options_.secure_distance_start),
-                                   0.0, 1.0);
+    // The secure-distance ramp on the free distance ahead, unless the path
+    // heads for the target and is free up to it (the holonomic method's
+    // approach slows down there).
+    const bool reaches_target = std::abs(k - kt) <= 1 && cfd >= target_d;
+    const double ramp = reaches_target ? 1.0
+                                       : std::clamp((cfd - options_.secure_distance_start) /
+                                                        (options_.secure_distance_end - options_.secure_distance_start),
+                                                    0.0, 1.0);
     const double speed = out.speed * ramp;
     if (speed <= 0) continue;
     if (score > best.score) best = {static_cast<int>(i), k, score, speed, free[static_cast<std::size_t>(k)]};

@@ -71,21 +71,22 @@ TEST(Ptg, FreeDistancesMatchMarchingTheFootprint) {
     ptg.free_distances(obstacles, free);
     ASSERT_EQ(free.size(), 31u);
     for (int k = 0; k < ptg.path_count(); ++k) {
-      // Oracle: the first distance at which an obstacle is within the radius.
-      double hit = ptg.path_length(k);
-      for (double d = 0; d <= ptg.path_length(k); d += 0.005) {
-        const Eigen::Vector2d p = ptg.pose_at(k, d).translation();
-        bool touch = false;
-        for (const auto& o : obstacles) touch = touch || (o - p).norm() <= 0.3;
-        if (touch) {
-          hit = d;
-          break;
+      // Oracle: the first distance at which an obstacle is within `radius`.
+      const auto hit = [&](double radius) {
+        for (double d = 0; d <= ptg.path_length(k); d += 0.005) {
+          const Eigen::Vector2d p = ptg.pose_at(k, d).translation();
+          for (const auto& o : obstacles) {
+            if ((o - p).norm() <= radius) return d;
+          }
         }
-      }
-      // Never beyond the touch; short of it by at most the distance the
-      // footprint takes to cross a cell's diagonal at a grazing angle.
-      EXPECT_LE(free[static_cast<std::size_t>(k)], hit + 1e-6) << k;
-      EXPECT_GE(free[static_cast<std::size_t>(k)], hit - 0.25) << k;
+        return ptg.path_length(k);
+      };
+      // Obstacles count at their cells' centers, at most half a cell
+      // diagonal (0.036 m) from the points: the free distance lies between
+      // the oracle's for radii 0.036 m smaller and larger, give or take a
+      // sample.
+      EXPECT_LE(free[static_cast<std::size_t>(k)], hit(0.3 - 0.036) + 0.03) << k;
+      EXPECT_GE(free[static_cast<std::size_t>(k)], hit(0.3 + 0.036) - 0.03) << k;
     }
     int k = 0;
     double d = 0;
@@ -115,6 +116,16 @@ TEST(Ptg, FreeDistancesMatchMarchingTheFootprint) {
     EXPECT_NEAR(e, best, 1e-5);
     EXPECT_NEAR((ptg.pose_at(k, d).translation() - p).norm(), e, 1e-5);
   }
+  // An obstacle the footprint already holds (0.25 m ahead, radius 0.3):
+  // forward it blocks at once, backward it does not.
+  PtgOptions back_options = small_ptg(PtgFamily::DiffDriveC);
+  back_options.k = -1;
+  const Ptg forward(small_ptg(PtgFamily::DiffDriveC)), backward(back_options);
+  std::vector<double> f, b;
+  forward.free_distances({Eigen::Vector2d(0.25, 0.0)}, f);
+  backward.free_distances({Eigen::Vector2d(0.25, 0.0)}, b);
+  EXPECT_LT(f[15], 0.05);
+  EXPECT_NEAR(b[15], backward.path_length(15), 1e-9);
   PtgOptions bad = small_ptg(PtgFamily::DiffDriveC);
   bad.num_paths = 2;
   EXPECT_THROW(Ptg{bad}, InvalidArgument);

@@ -72,7 +72,8 @@ class Ptg {
  public:
   /// Builds the K trajectories (samples every `resolution`/2 of distance up
   /// to ref_distance) and the collision grid (for each cell near them, the
-  /// first sample of each trajectory whose footprint covers it). Throws
+  /// first sample of each trajectory whose footprint holds the cell's
+  /// center; an obstacle is taken at the center of its cell). Throws
   /// InvalidArgument if the options fail check(); ResourceError when the
   /// grid would exceed the memory budget.
   explicit Ptg(const PtgOptions& options);
@@ -99,7 +100,9 @@ class Ptg {
   double inverse_map(const Eigen::Vector2d& p_robot, int& k, double& d) const;
   /// For each trajectory, the distance the footprint travels along it before
   /// touching one of `obstacles_robot` (robot frame), at most its length;
-  /// written into `free` (resized to K).
+  /// written into `free` (resized to K). An obstacle the footprint already
+  /// holds blocks a trajectory only where it comes nearer to it (so a robot
+  /// closer to something than its footprint's margin can still back away).
   void free_distances(const std::vector<Eigen::Vector2d>& obstacles_robot, std::vector<double>& free) const;
   /// Smallest distance from the point to the samples of trajectory k up to
   /// distance `up_to`, m.

@@ -16,8 +16,9 @@
 /// for the same PTG and direction as the last cycle, path_index_near_target
 /// = exp(−|k_t − k|/(K/10)). The best candidate's PTG command, scaled by
 /// the holonomic speed and the secure-distance ramp (0 below
-/// secure_distance_start, 1 above secure_distance_end of free distance),
-/// within the robot's top speeds, is the velocity command.
+/// secure_distance_start, 1 above secure_distance_end of free distance;
+/// no ramp on a trajectory toward the target that is free up to it), within
+/// the robot's top speeds, is the velocity command.
 ///
 /// Configuration: MRPT's `navigation-ptgs/reactive2d_config.ini` is read
 /// unchanged. Keys MRPT documents but rove does not use are accepted and
