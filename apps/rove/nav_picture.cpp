@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "rove/io/gray_image.h"
 
@@ -83,7 +84,7 @@ void NavPicture::dot(const Eigen::Vector2d& p, int r, std::uint8_t color) {
 void NavPicture::robot(const Eigen::Vector2d& p, double heading, double radius, std::uint8_t color) {
   const int steps = 48;
   for (int k = 0; k < steps; ++k) {
-    const double a0 = 2 * M_PI * k / steps, a1 = 2 * M_PI * (k + 1) / steps;
+    const double a0 = 2 * std::numbers::pi * k / steps, a1 = 2 * std::numbers::pi * (k + 1) / steps;
     canvas_.line(px(p.x() + radius * std::cos(a0)), py(p.y() + radius * std::sin(a0)),
                  px(p.x() + radius * std::cos(a1)), py(p.y() + radius * std::sin(a1)), color);
   }

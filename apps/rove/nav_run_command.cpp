@@ -46,6 +46,19 @@ struct NavRunArgs {
 
 SE2d to_se2(const Pose2& p) { return SE2d(p.x(), p.y(), p.phi()); }
 
+// Items of a position or pose: separated by commas, or by spaces in MRPT's
+// bracketed form.
+int item_count(const std::string& text) {
+  int items = 0;
+  bool in_item = false;
+  for (const char c : text) {
+    const bool separator = c == ',' || c == ' ' || c == '[' || c == ']';
+    if (!separator && !in_item) ++items;
+    in_item = !separator;
+  }
+  return items;
+}
+
 // The run's options from the command line, then the config's sections.
 NavigationRunOptions run_options(const NavRunArgs& a, std::vector<std::string>& notes) {
   NavigationRunOptions o = NavigationRunOptions::for_robot(a.robot_radius, a.max_v, a.max_w_deg * std::numbers::pi / 180);
@@ -156,7 +169,8 @@ void run_nav_run(const NavRunArgs& a) {
   const SE2d goal = to_se2(parse_cli_position_or_pose2(a.goal, "--goal"));
   std::vector<std::string> notes;
   NavigationRunOptions o = run_options(a, notes);
-  o.goal_heading = std::count(a.goal.begin(), a.goal.end(), ',') == 2;
+  // A heading given with the goal ("x,y,yaw" or "[x y yaw]") must be reached too.
+  o.goal_heading = item_count(a.goal) == 3;
   const LoadedGrid in = load_any_grid(a.map, "MAP");
   std::vector<fs::path> inputs = in.files;
   if (!a.config.empty()) inputs.push_back(a.config);

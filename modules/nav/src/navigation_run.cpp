@@ -125,16 +125,26 @@ std::pair<double, std::size_t> remaining(const std::vector<SE2d>& plan, std::siz
   return {rest, best};
 }
 
-// The point `ahead` meters along the plan from its first pose (the goal
-// when the plan is shorter).
-Eigen::Vector2d point_ahead(const std::vector<SE2d>& plan, double ahead) {
-  for (std::size_t i = 1; i < plan.size(); ++i) {
+// The reactive navigator's target: the farthest point at most `ahead`
+// meters along the plan (sampled every 5 cm) that the robot sees in a
+// straight line on the map (segment_free for its radius), else the plan's
+// first point.
+Eigen::Vector2d visible_point_ahead(const NavigationGrid& world, const Eigen::Vector2d& robot,
+                                    const std::vector<SE2d>& plan, double ahead, double radius) {
+  Eigen::Vector2d target = plan.front().translation();
+  double along = 0;
+  for (std::size_t i = 1; i < plan.size() && along < ahead; ++i) {
     const Eigen::Vector2d a = plan[i - 1].translation(), b = plan[i].translation();
     const double step = (b - a).norm();
-    if (step >= ahead) return a + (b - a) * (ahead / step);
-    ahead -= step;
+    const int pieces = std::max(1, static_cast<int>(std::ceil(step / 0.05)));
+    for (int k = 1; k <= pieces && along + step * k / pieces <= ahead + 1e-9; ++k) {
+      const Eigen::Vector2d p = a + (b - a) * (static_cast<double>(k) / pieces);
+      if (!world.segment_free(robot, p, radius)) return target;
+      target = p;
+    }
+    along += step;
   }
-  return plan.back().translation();
+  return target;
 }
 
 // The global path with the margin, else (the robot or the goal too near a
@@ -159,7 +169,7 @@ struct LocalStep {
 
 class LocalPlanner {
  public:
-  explicit LocalPlanner(const NavigationRunOptions& o) : o_(o) {
+  LocalPlanner(const NavigationRunOptions& o, const NavigationGrid& world) : o_(o), world_(world) {
     if (o.planner == LocalPlannerKind::Teb) {
       teb_ = std::make_unique<TebPlanner>(o.teb);
     } else {
@@ -178,8 +188,8 @@ class LocalPlanner {
       s.band_poses = static_cast<int>(s.local_plan.size());
       return s;
     }
-    // The path's relative start is the robot's nearest plan point.
-    const Eigen::Vector2d target = point_ahead(ahead, o_.reactive_lookahead);
+    const Eigen::Vector2d target = visible_point_ahead(world_, sim.pose().translation(), ahead,
+                                                       o_.reactive_lookahead, o_.simulator.robot_radius);
     const bool final_target = (target - ahead.back().translation()).norm() < 1e-9;
     const ReactiveResult r = reactive_->step(sim.pose(), points, target, final_target ? 0.5 * o_.goal_tolerance : 0.0);
     s.goal_reached = final_target && r.termination == ReactiveTermination::TargetReached;
@@ -194,6 +204,7 @@ class LocalPlanner {
 
  private:
   const NavigationRunOptions& o_;
+  const NavigationGrid& world_;
   std::unique_ptr<TebPlanner> teb_;
   std::unique_ptr<ReactiveNavigator> reactive_;
 };
@@ -220,7 +231,7 @@ NavigationRunResult run_navigation(const NavigationGrid& world, const SE2d& star
   std::vector<SE2d> plan = plan_poses(r.global.path, goal, o.goal_heading);
   const double max_time =
       o.max_time > 0 ? o.max_time : 60.0 + 3.0 * r.global.path.length / o.simulator.limits.max_v;
-  LocalPlanner local_planner(o);
+  LocalPlanner local_planner(o, world);
   const Timestamp t0 = Timestamp::from_seconds(0.0);
   r.driven.push_back(start);
   r.min_clearance = sim.clearance();

@@ -25,14 +25,36 @@ ReactiveNavigator::ReactiveNavigator(ReactiveNavigatorOptions options) : options
   for (const PtgOptions& p : options_.ptgs) ptgs_.push_back(std::make_unique<Ptg>(p));
 }
 
-namespace {
-
-struct Candidate {
-  int ptg = -1, k = -1;
-  double score = -1, speed = 0, free = 0;
-};
-
-}  // namespace
+void ReactiveNavigator::consider(std::size_t i, int k, double holonomic_speed, int kt, double target_d,
+                                 const std::vector<double>& free, const std::vector<double>& normalized,
+                                 const Eigen::Vector2d& t, Candidate& best) const {
+  const Ptg& ptg = *ptgs_[i];
+  const double ref = ptg.options().ref_distance;
+  const int n = ptg.path_count();
+  const double cfd = normalized[static_cast<std::size_t>(k)];
+  // MRPT's default scores (reactive_navigator.h), without a delay model.
+  const double eff = std::max(0.0, target_d);
+  const double target_distance = cfd > eff ? 1.0 / (1.0 + eff * eff) : 0.0;
+  const double cfd_score = cfd > eff + 0.05 ? 1.0 : cfd;
+  const double eucl = ptg.distance_to_path(k, free[static_cast<std::size_t>(k)], t) / ref;
+  const double nearness = 1.0 / (1.0 + eucl * eucl);
+  const double hysteresis = static_cast<int>(i) == last_ptg_ && std::abs(k - last_direction_) <= 1 ? 1.0 : 0.0;
+  double dif = std::abs(kt - k);
+  if (dif > n / 2.0) dif = n - dif;
+  const double index_near = std::exp(-std::abs(dif / (n / 10.0)));
+  const double score = ptg.options().score_priority *
+                       (0.3 * target_distance + 0.5 * cfd_score + 8.0 * nearness + 0.1 * hysteresis + 0.2 * index_near);
+  // The secure-distance ramp on the free distance ahead, unless the path
+  // heads for the target and is free up to it (the holonomic method's
+  // approach slows down there).
+  const bool reaches_target = std::abs(k - kt) <= 1 && cfd >= target_d;
+  const double ramp = reaches_target ? 1.0
+                                     : std::clamp((cfd - options_.secure_distance_start) /
+                                                      (options_.secure_distance_end - options_.secure_distance_start),
+                                                  0.0, 1.0);
+  const double speed = holonomic_speed * ramp;
+  if (speed > 0 && score > best.score) best = {static_cast<int>(i), k, score, speed, free[static_cast<std::size_t>(k)]};
+}
 
 ReactiveResult ReactiveNavigator::step(const SE2d& T_map_robot, const std::vector<Eigen::Vector2d>& obstacles,
                                        const Eigen::Vector2d& target, double allowed_distance) {
@@ -57,7 +79,6 @@ ReactiveResult ReactiveNavigator::step(const SE2d& T_map_robot, const std::vecto
   for (std::size_t i = 0; i < ptgs_.size(); ++i) {
     const Ptg& ptg = *ptgs_[i];
     const double ref = ptg.options().ref_distance;
-    const int n = ptg.path_count();
     int kt = 0;
     double dt = 0;
     const double off = ptg.inverse_map(t, kt, dt);
@@ -73,31 +94,13 @@ ReactiveResult ReactiveNavigator::step(const SE2d& T_map_robot, const std::vecto
       case HolonomicMethod::NearnessDiagram: out = holonomic_nd(in, options_.nd); break;
       case HolonomicMethod::Vff: out = holonomic_vff(in, options_.vff); break;
     }
-    const int k = out.direction;
-    const double cfd = normalized[static_cast<std::size_t>(k)];
-    // MRPT's default scores (reactive_navigator.h), without a delay model.
-    const double eff = std::max(0.0, target_d);
-    const double target_distance = cfd > eff ? 1.0 / (1.0 + eff * eff) : 0.0;
-    const double cfd_score = cfd > eff + 0.05 ? 1.0 : cfd;
-    const double eucl = ptg.distance_to_path(k, free[static_cast<std::size_t>(k)], t) / ref;
-    const double nearness = 1.0 / (1.0 + eucl * eucl);
-    const double hysteresis = static_cast<int>(i) == last_ptg_ && std::abs(k - last_direction_) <= 1 ? 1.0 : 0.0;
-    double dif = std::abs(kt - k);
-    if (dif > n / 2.0) dif = n - dif;
-    const double index_near = std::exp(-std::abs(dif / (n / 10.0)));
-    const double score = ptg.options().score_priority *
-                         (0.3 * target_distance + 0.5 * cfd_score + 8.0 * nearness + 0.1 * hysteresis + 0.2 * index_near);
-    // The secure-distance ramp on the free distance ahead, unless the path
-    // heads for the target and is free up to it (the holonomic method's
-    // approach slows down there).
-    const bool reaches_target = std::abs(k - kt) <= 1 && cfd >= target_d;
-    const double ramp = reaches_target ? 1.0
-                                       : std::clamp((cfd - options_.secure_distance_start) /
-                                                        (options_.secure_distance_end - options_.secure_distance_start),
-                                                    0.0, 1.0);
-    const double speed = out.speed * ramp;
-    if (speed <= 0) continue;
-    if (score > best.score) best = {static_cast<int>(i), k, score, speed, free[static_cast<std::size_t>(k)]};
+    // The holonomic method's choice, and the last cycle's motion when it
+    // was this PTG's (MRPT's continuation: with its hysteresis score it
+    // wins near-ties, so the choice does not flip between cycles).
+    consider(i, out.direction, out.speed, kt, target_d, free, normalized, t, best);
+    if (static_cast<int>(i) == last_ptg_ && last_direction_ != out.direction) {
+      consider(i, last_direction_, out.speed, kt, target_d, free, normalized, t, best);
+    }
   }
   if (best.ptg < 0) {
     r.termination = ReactiveTermination::Blocked;

@@ -51,8 +51,9 @@ struct NavigationRunOptions {
   TebOptions teb;
   /// The reactive navigator (its PTGs' footprint should cover the robot).
   ReactiveNavigatorOptions reactive = ReactiveNavigatorOptions::defaults(0.4);
-  /// The reactive navigator's target: the point this far along the global
-  /// path ahead of the robot (or the goal), m. > 0.
+  /// The reactive navigator's target: the farthest point at most this far
+  /// along the global path ahead of the robot that the robot sees in a
+  /// straight line on the map (or the goal), m. > 0.
   double reactive_lookahead = 2.0;
   /// The robot and its sensors.
   SimulatorOptions simulator;

@@ -13,7 +13,9 @@
 /// target (else 0), collision_free_distance_score = 1 when free beyond
 /// d_t + 0.05 (else the free distance), euclidean_nearness = 1/(1 + e²) (e
 /// the path's nearest approach to the target, normalized), hysteresis 1
-/// for the same PTG and direction as the last cycle, path_index_near_target
+/// for the same PTG and direction as the last cycle (whose motion is scored
+/// as a candidate of its own when the holonomic method picks another one,
+/// as MRPT's PTG continuation), path_index_near_target
 /// = exp(−|k_t − k|/(K/10)). The best candidate's PTG command, scaled by
 /// the holonomic speed and the secure-distance ramp (0 below
 /// secure_distance_start, 1 above secure_distance_end of free distance;
@@ -108,6 +110,16 @@ class ReactiveNavigator {
   const ReactiveNavigatorOptions& options() const noexcept { return options_; }
 
  private:
+  struct Candidate {
+    int ptg = -1, k = -1;
+    double score = -1, speed = 0, free = 0;
+  };
+  // Scores trajectory k of PTG i (free distances of this cycle, target at
+  // TP direction kt and normalized distance target_d, point t in the robot
+  // frame) and keeps it in `best` if it moves and scores higher.
+  void consider(std::size_t i, int k, double holonomic_speed, int kt, double target_d, const std::vector<double>& free,
+                const std::vector<double>& normalized, const Eigen::Vector2d& t, Candidate& best) const;
+
   ReactiveNavigatorOptions options_;
   std::vector<std::unique_ptr<Ptg>> ptgs_;
   int last_ptg_ = -1, last_direction_ = -1;
