@@ -155,9 +155,9 @@ GridPlanResult plan_path(const NavigationGrid& grid, const SE2d& start, const SE
                          const GridPlannerOptions& o) {
   o.check();
   GridPlanResult r;
-  // The free flags (1 byte per cell) and the search's own (value
-  // iteration 4, A* 5).
-  check_memory_budget(checked_bytes(static_cast<std::uint64_t>(grid.size_x()) * grid.size_y(), 6),
+  // The free flags (1 byte per cell) and the search's own (A* 5; value
+  // iteration 4, and 5 more for its connectivity check).
+  check_memory_budget(checked_bytes(static_cast<std::uint64_t>(grid.size_x()) * grid.size_y(), 10),
                       fmt::format("path planning on a {} \u00d7 {} grid", grid.size_x(), grid.size_y()));
   const detail::GridSearchSpace s(grid, o.robot_radius);
   if (refuse_endpoint(s, o.robot_radius, start, true, r) ||

@@ -47,12 +47,12 @@ void descend(const GridSearchSpace& s, const std::vector<Wave>& wave, GridCellIn
   }
 }
 
-// True when a chain of moves joins a and b (a flood fill from a, using
-// `mark` as its visited flags and leaving it all zero). The sweeps below
-// would find the same in time proportional to the map's size times its
-// width; this takes one pass.
-bool connected(const GridSearchSpace& s, GridCellIndex a, GridCellIndex b, std::vector<Wave>& mark) {
+// True when a chain of moves joins a and b (a flood fill from a). The
+// sweeps below would find the same in time proportional to the map's size
+// times its width; this takes one pass over the cells a reaches.
+bool connected(const GridSearchSpace& s, GridCellIndex a, GridCellIndex b) {
   const NavigationGrid& g = s.grid();
+  std::vector<std::uint8_t> mark(static_cast<std::size_t>(g.size_x()) * g.size_y(), 0);
   std::vector<std::uint32_t> queue{static_cast<std::uint32_t>(g.index(a.x, a.y))};
   mark[queue.front()] = 1;
   const std::size_t target = g.index(b.x, b.y);
@@ -71,7 +71,6 @@ bool connected(const GridSearchSpace& s, GridCellIndex a, GridCellIndex b, std::
       found = found || j == target;
     }
   }
-  for (const std::uint32_t i : queue) mark[i] = 0;
   return found;
 }
 
@@ -85,7 +84,6 @@ std::vector<GridCellIndex> value_iteration_search(const GridSearchSpace& s, Grid
   // Costs stay below 3 per cell of the grid.
   ROVE_CHECK_LT(static_cast<double>(nx) * ny, std::numeric_limits<Wave>::max() / 4.0);
   std::vector<Wave> wave(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0);
-  if (!connected(s, start, goal, wave)) return {};
   wave[g.index(start.x, start.y)] = 1;
   wave[g.index(goal.x, goal.y)] = -1;
   int x0 = std::min(start.x, goal.x) - 1, x1 = std::max(start.x, goal.x) + 1;
@@ -98,7 +96,11 @@ std::vector<GridCellIndex> value_iteration_search(const GridSearchSpace& s, Grid
   bool limited = false;
   constexpr Wave kNone = std::numeric_limits<Wave>::max();
   std::size_t counter = 0;
-  while (true) {
+  // Most queries meet within a few dozen sweeps; a query still open then
+  // checks once that start and goal are connected at all.
+  constexpr int kSweepsBeforeConnectivity = 64;
+  for (int sweep = 1;; ++sweep) {
+    if (sweep == kSweepsBeforeConnectivity && !connected(s, start, goal)) return {};
     x0 = std::max(0, x0 - 1);
     y0 = std::max(0, y0 - 1);
     x1 = std::min(nx - 1, x1 + 1);

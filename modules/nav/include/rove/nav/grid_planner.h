@@ -125,7 +125,7 @@ struct GridPlanResult {
 /// Plans a path for a disc robot from `start` to `goal` (map frame) on
 /// `grid`. Start and goal in one cell give the two-pose path. Throws
 /// InvalidArgument when the options fail check(); ResourceError when the
-/// search's work space (5 bytes per cell) exceeds the memory budget.
+/// search's work space (10 bytes per cell) exceeds the memory budget.
 /// Thread-safe (no shared state); polls rove::throw_if_interrupted().
 GridPlanResult plan_path(const NavigationGrid& grid, const SE2d& start, const SE2d& goal,
                          const GridPlannerOptions& options = {});
