@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "icp_slam_test_util.h"
+#include "sim_building.h"
 #include "rove/core/ini.h"
 #include "rove/obs/odometry_observation.h"
 #include "rove/obs/range_scan_2d.h"
@@ -23,67 +24,13 @@
 namespace rove {
 namespace {
 
-struct Segment {
-  Eigen::Vector2d a, b;
-};
-
-/// A 24 m × 14 m building around a 14 m × 4 m block, with pillars along the
-/// walls so that no corridor is featureless; `origin` shifts all of it.
-std::vector<Segment> building(const Eigen::Vector2d& origin) {
-  std::vector<Segment> w;
-  const auto box = [&](double x0, double y0, double x1, double y1) {
-    const Eigen::Vector2d p[4] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-    for (int i = 0; i < 4; ++i) w.push_back({origin + p[i], origin + p[(i + 1) % 4]});
-  };
-  box(-2, -2, 22, 12);
-  box(3, 3, 17, 7);
-  for (const double x : {1.0, 6.0, 11.5, 16.0, 20.0}) {
-    box(x, -2, x + 0.4, -1.5);
-    box(x - 0.5, 11.5, x - 0.1, 12);
-  }
-  box(-2, 4.5, -1.4, 5.2);
-  box(21.5, 3.5, 22, 4.4);
-  box(8, 2.6, 9, 3);
-  box(12, 7, 12.5, 7.5);
-  return w;
-}
-
-/// Range along the ray from p in direction d to the nearest wall (inf: none).
-double cast(const std::vector<Segment>& walls, const Eigen::Vector2d& p, const Eigen::Vector2d& d) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const Segment& s : walls) {
-    const Eigen::Vector2d e = s.b - s.a;
-    const double den = d.x() * e.y() - d.y() * e.x();
-    if (std::abs(den) < 1e-12) continue;
-    const Eigen::Vector2d ap = s.a - p;
-    const double t = (ap.x() * e.y() - ap.y() * e.x()) / den;  // along the ray
-    const double u = (ap.x() * d.y() - ap.y() * d.x()) / den;  // along the wall
-    if (t > 0 && u >= 0 && u <= 1) best = std::min(best, t);
-  }
-  return best;
-}
+using test::building;
+using test::cast;
 
 /// The true loop (x, y, heading) every 0.2 m, counter-clockwise around the
 /// block, starting and ending at (1.5, 1.5) + origin.
 std::vector<Pose2> true_path(const Eigen::Vector2d& origin) {
-  std::vector<Pose2> out;
-  const Eigen::Vector2d corners[5] = {{1.5, 1.5}, {18.5, 1.5}, {18.5, 8.5}, {1.5, 8.5}, {1.5, 1.5}};
-  for (int leg = 0; leg < 4; ++leg) {
-    const Eigen::Vector2d a = corners[leg], b = corners[leg + 1];
-    const double heading = std::atan2(b.y() - a.y(), b.x() - a.x());
-    const int n = static_cast<int>(std::round((b - a).norm() / 0.2));
-    // Turn in place at the corner (three steps of 30°), then drive.
-    if (leg > 0) {
-      const double before = out.back().phi();
-      for (int k = 1; k <= 3; ++k)
-        out.emplace_back(origin.x() + a.x(), origin.y() + a.y(), before + k * (heading - before) / 3);
-    }
-    for (int i = leg == 0 ? 0 : 1; i <= n; ++i) {
-      const Eigen::Vector2d p = origin + a + (b - a) * (static_cast<double>(i) / n);
-      out.emplace_back(p.x(), p.y(), heading);
-    }
-  }
-  return out;
+  return test::loop_path(origin, 1, 0.2, false);
 }
 
 struct LoopRun {
@@ -94,7 +41,7 @@ struct LoopRun {
 /// Drives the loop through ICP-SLAM with the demo config in `arithmetic`.
 /// The world and the noise are the same for every call with the same seed.
 LoopRun drive(const Eigen::Vector2d& origin, Arithmetic arithmetic, std::uint64_t seed) {
-  const std::vector<Segment> walls = building(origin);
+  const std::vector<test::Segment> walls = building(origin);
   const std::vector<Pose2> truth = true_path(origin);
   IcpSlamConfig cfg = load_icp_slam_config(IniFile::load(test::data_path("icp-slam_demo_classic.ini")));
   cfg.options.icp.arithmetic = arithmetic;
