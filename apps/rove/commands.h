@@ -15,6 +15,9 @@ void add_config_command(CLI::App& app);
 void add_rawlog_command(CLI::App& app);
 /// `rove icp-slam [CONFIG] [RAWLOG] [-o DIR] [--json]`: build a map with ICP-SLAM.
 void add_icp_slam_command(CLI::App& app);
+/// `rove lidar-slam [CONFIG] LOG [-o DIR] [--json]`: 2D lidar SLAM with loop
+/// closure.
+void add_lidar_slam_command(CLI::App& app);
 /// `rove pf-localization [CONFIG] [RAWLOG] [-o DIR] [--seed N] [--json]`:
 /// Monte-Carlo localization in a known map from an MRPT pf-localization config.
 void add_pf_localization_command(CLI::App& app);

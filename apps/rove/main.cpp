@@ -107,6 +107,7 @@ int main(int argc, char** argv) {
   rove::cli::add_config_command(app);
   rove::cli::add_rawlog_command(app);
   rove::cli::add_icp_slam_command(app);
+  rove::cli::add_lidar_slam_command(app);
   rove::cli::add_pf_localization_command(app);
   rove::cli::add_graph_slam_command(app);
   rove::cli::add_map_command(app);

@@ -75,4 +75,19 @@ bool RobotMovement2D::equals(const Action& other) const {
   return o != nullptr && *this == *o;
 }
 
+std::shared_ptr<const RobotMovement2D> best_movement_2d(const ActionCollection& actions) {
+  std::shared_ptr<const RobotMovement2D> best;
+  double best_det = 0.0;
+  for (const auto& a : actions.actions) {
+    auto m = std::dynamic_pointer_cast<const RobotMovement2D>(a);
+    if (!m) continue;
+    const double det = m->gaussian().covariance().determinant();
+    if (!best || det < best_det) {
+      best = std::move(m);
+      best_det = det;
+    }
+  }
+  return best;
+}
+
 }  // namespace rove

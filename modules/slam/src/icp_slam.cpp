@@ -185,19 +185,8 @@ void IcpSlam::process_odometry(const Pose2& odometry, Timestamp time,
 
 void IcpSlam::process(const ActionCollection& actions, const SensoryFrame& frame,
                       Timestamp fallback_time) {
-  // MRPT's getBestMovementEstimation: the 2D movement with the smallest
-  // covariance determinant.
-  std::shared_ptr<const RobotMovement2D> best;
-  double best_det = 0.0;
-  for (const auto& a : actions.actions) {
-    auto m = std::dynamic_pointer_cast<const RobotMovement2D>(a);
-    if (!m) continue;
-    const double det = m->gaussian().covariance().determinant();
-    if (!best || det < best_det) {
-      best = m;
-      best_det = det;
-    }
-  }
+  // MRPT's getBestMovementEstimation.
+  const std::shared_ptr<const RobotMovement2D> best = best_movement_2d(actions);
   if (best) {
     accumulated_odometry_ = accumulated_odometry_ + best->mean();
     process_odometry(accumulated_odometry_, best->timestamp.valid() ? best->timestamp : fallback_time,

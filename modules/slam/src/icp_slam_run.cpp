@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "log_counts.h"
 #include "rove/core/check.h"
 #include "rove/core/error.h"
 #include "rove/core/interrupt.h"
@@ -30,15 +31,6 @@ Timestamp first_time(const SensoryFrame& frame) {
 bool matchable(const Observation& o) {
   return dynamic_cast<const RangeScan2D*>(&o) != nullptr ||
          dynamic_cast<const RangeImage3D*>(&o) != nullptr;
-}
-
-std::string describe_counts(const std::map<std::string, std::uint64_t>& counts) {
-  std::string d;
-  for (const auto& [name, n] : counts) {
-    if (!d.empty()) d += ", ";
-    d += fmt::format("{} {}", n, name);
-  }
-  return d.empty() ? "nothing" : d;
 }
 
 }  // namespace
@@ -180,7 +172,7 @@ IcpSlamRunResult run_icp_slam(IcpSlam& slam, const std::string& rawlog_path,
     throw SelectionError(
         "", fmt::format("{} holds no 2D scan or 3D range image for ICP-SLAM to match (its {} "
                         "processed steps hold: {}); nothing written",
-                        rawlog_path, result.steps.size(), describe_counts(classes)));
+                        rawlog_path, result.steps.size(), detail::describe_counts(classes)));
   }
   result.issues = icp_slam_issues(slam.stats(), slam.options(), options.min_accepted_fraction);
   return result;

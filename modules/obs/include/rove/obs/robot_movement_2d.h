@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "rove/obs/action.h"
+#include "rove/obs/action_collection.h"
 #include "rove/obs/motion_model_options.h"
 #include "rove/obs/odometry_data.h"
 #include "rove/poses/pdf_gaussian2.h"
@@ -75,5 +76,10 @@ class RobotMovement2D final : public Action {
   /// Same dynamic type and operator==.
   bool equals(const Action& other) const override;
 };
+
+/// The 2D movement of `actions` with the smallest covariance determinant
+/// (MRPT's CActionCollection::getBestMovementEstimation), or nullptr when
+/// it holds none.
+std::shared_ptr<const RobotMovement2D> best_movement_2d(const ActionCollection& actions);
 
 }  // namespace rove
