@@ -65,7 +65,7 @@ rove::AnyRawlogOptions options(bool second) {
   o.rove.max_entry_bytes = std::uint64_t{1} << 22;
   if (second) {
     o.rove.skip_unknown_classes = true;
-    o.carmen.layout = rove::RawlogLayout::kObservations;
+    o.carmen.layout = rove::RawlogLayout::Observations;
     o.carmen.log.skip_malformed = true;
     o.carmen.log.max_line_bytes = 256;
   }
@@ -125,7 +125,7 @@ constexpr std::size_t kMaxKept = 64;
 void run(bool second) {
   const std::string& path = scratch_path();
   bool detected = false;
-  rove::RawlogFormat format = rove::RawlogFormat::kRove;
+  rove::RawlogFormat format = rove::RawlogFormat::Rove;
   try {
     format = rove::detect_rawlog_format(path);
     detected = true;
@@ -144,12 +144,12 @@ void run(bool second) {
   try {
     while (auto e = reader->next()) {
       try {
-        check_entry(*e, reader->format() == rove::RawlogFormat::kCarmen);
+        check_entry(*e, reader->format() == rove::RawlogFormat::Carmen);
       } catch (const rove::Error& err) {
         std::fprintf(stderr, "%s\n", err.what());
         die("an accepted entry fails its check()");
       }
-      if (reader->format() == rove::RawlogFormat::kCarmen) {
+      if (reader->format() == rove::RawlogFormat::Carmen) {
         const bool obs = std::holds_alternative<std::shared_ptr<const rove::Observation>>(*e);
         if (obs != second) die("a CARMEN entry outside the layout asked for");
       }
@@ -159,7 +159,7 @@ void run(bool second) {
     say("rejected part-way: ", err.what());
     return;  // rejected part-way: fine, the reader said where
   }
-  if (reader->format() == rove::RawlogFormat::kCarmen && reader->entries_read() == 0) {
+  if (reader->format() == rove::RawlogFormat::Carmen && reader->entries_read() == 0) {
     die("a CARMEN log was read to the end without an entry");
   }
   say("read: ", std::string(rove::to_string(reader->format())) + ", " +
@@ -168,7 +168,7 @@ void run(bool second) {
   // its layout excludes and values it cannot store).
   try {
     rove::RoveRawlogWriterOptions wo;
-    wo.layout = kept.empty() ? rove::RawlogLayout::kActionsSensoryFrames : rove::layout_of(kept);
+    wo.layout = kept.empty() ? rove::RawlogLayout::ActionsSensoryFrames : rove::layout_of(kept);
     wo.gzip = false;
     rove::RoveRawlogWriter w(std::make_unique<rove::MemoryOutStream>("fuzz-out"), wo);
     for (const auto& e : kept) w.write(e);

@@ -19,11 +19,11 @@ namespace {
 }
 
 void check_record(const rove::CarmenRecord& r) {
-  const bool is_scan = r.type == rove::CarmenMessage::kFlaser ||
-                       r.type == rove::CarmenMessage::kRlaser ||
-                       r.type == rove::CarmenMessage::kRobotLaser1;
+  const bool is_scan = r.type == rove::CarmenMessage::Flaser ||
+                       r.type == rove::CarmenMessage::Rlaser ||
+                       r.type == rove::CarmenMessage::RobotLaser1;
   if (is_scan != (r.scan != nullptr)) die("scan presence does not match the type", r.line);
-  if ((r.type == rove::CarmenMessage::kOdom) != (r.odometry != nullptr)) {
+  if ((r.type == rove::CarmenMessage::Odom) != (r.odometry != nullptr)) {
     die("odometry presence does not match the type", r.line);
   }
   if (!r.timestamp.valid()) die("invalid timestamp", r.line);

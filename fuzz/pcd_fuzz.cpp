@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::fprintf(stderr, "pcd_fuzz: channel sizes disagree\n");
     std::abort();
   }
-  for (auto f : {rove::PcdFormat::kAscii, rove::PcdFormat::kBinary, rove::PcdFormat::kBinaryCompressed}) {
+  for (auto f : {rove::PcdFormat::Ascii, rove::PcdFormat::Binary, rove::PcdFormat::BinaryCompressed}) {
     rove::PcdWriteOptions o;
     o.format = f;
     if (!(rove::read_pcd_from_memory(rove::write_pcd_to_memory(c, o), "again") == c)) {

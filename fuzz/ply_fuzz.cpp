@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const rove::Error&) {
     return 0;
   }
-  for (auto f : {rove::PlyFormat::kAscii, rove::PlyFormat::kBinaryLittleEndian, rove::PlyFormat::kBinaryBigEndian}) {
+  for (auto f : {rove::PlyFormat::Ascii, rove::PlyFormat::BinaryLittleEndian, rove::PlyFormat::BinaryBigEndian}) {
     rove::PlyWriteOptions o;
     o.format = f;
     if (!(rove::read_ply_from_memory(rove::write_ply_to_memory(c, o), "again") == c)) {

@@ -27,7 +27,7 @@ rove::RoveRawlogReaderOptions reader_options(bool skip) {
 
 struct Read {
   std::vector<rove::RawlogEntry> entries;
-  rove::RawlogLayout layout = rove::RawlogLayout::kEmpty;
+  rove::RawlogLayout layout = rove::RawlogLayout::Empty;
   rove::RawlogMetadata metadata;
 };
 

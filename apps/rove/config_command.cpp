@@ -19,11 +19,11 @@ namespace rove::cli {
 namespace {
 
 /// The applications whose configuration `config check --for` validates.
-enum class ConfigTarget { kNone, kIcpSlam, kMapBuild };
+enum class ConfigTarget { None, IcpSlam, MapBuild };
 
 struct ConfigCheckOptions {
   std::vector<std::string> files;
-  ConfigTarget target = ConfigTarget::kNone;
+  ConfigTarget target = ConfigTarget::None;
   std::string section;
   bool lenient = false;
   bool list = false;
@@ -76,7 +76,7 @@ FileCheck check_file(const std::string& file, const ConfigCheckOptions& o) {
     IniOptions ini_options;
     // As the commands read them: icp-slam strictly, map build as MRPT
     // (lines it would skip are skipped, and listed here as warnings).
-    ini_options.strict = !o.lenient && o.target != ConfigTarget::kMapBuild;
+    ini_options.strict = !o.lenient && o.target != ConfigTarget::MapBuild;
     const IniFile ini = IniFile::load(file, ini_options);
     c.sections = ini.sections().size();
     for (const auto& s : ini.sections()) c.keys += ini.keys(s).size();
@@ -89,13 +89,13 @@ FileCheck check_file(const std::string& file, const ConfigCheckOptions& o) {
         }
       }
     }
-    if (o.target == ConfigTarget::kIcpSlam) {
+    if (o.target == ConfigTarget::IcpSlam) {
       IcpSlamConfig cfg = load_icp_slam_config(ini);
       add_notes(cfg.ignored_keys, c);
       // The command's next step: the algorithm checks its options.
       const IcpSlam slam(cfg.options, std::move(cfg.map));
       c.validated = "icp-slam";
-    } else if (o.target == ConfigTarget::kMapBuild) {
+    } else if (o.target == ConfigTarget::MapBuild) {
       const MapBuildConfig cfg = load_map_build_config(ini, o.section);
       add_notes(cfg.ignored_keys, c);
       c.validated = fmt::format("map-build [{}]: {} map{}", printable(cfg.section), cfg.maps.size(),
@@ -104,7 +104,7 @@ FileCheck check_file(const std::string& file, const ConfigCheckOptions& o) {
     c.ok = true;
   } catch (const ParseError& e) {
     c.error = e.message();
-    if (!o.lenient && o.target != ConfigTarget::kMapBuild) {
+    if (!o.lenient && o.target != ConfigTarget::MapBuild) {
       c.error += " (--lenient skips such lines as MRPT does, and lists them)";
     }
   } catch (const Error& e) {
@@ -196,9 +196,9 @@ void add_config_command(CLI::App& app) {
   check->add_flag("--list", options->list, "print every section with its keys and values");
   check->add_flag("--json", options->json, "print the result as JSON");
   check->callback([options, target] {
-    options->target = *target == "icp-slam"    ? ConfigTarget::kIcpSlam
-                      : *target == "map-build" ? ConfigTarget::kMapBuild
-                                               : ConfigTarget::kNone;
+    options->target = *target == "icp-slam"    ? ConfigTarget::IcpSlam
+                      : *target == "map-build" ? ConfigTarget::MapBuild
+                                               : ConfigTarget::None;
     run_config_check(*options);
   });
 }

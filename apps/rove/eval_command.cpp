@@ -240,7 +240,7 @@ std::vector<ClockPair> carmen_clock(const std::string& path) {
   std::vector<ClockPair> clock;
   CarmenRecord record;
   while (reader.next(record))
-    if (record.type == CarmenMessage::kFlaser || record.type == CarmenMessage::kRobotLaser1)
+    if (record.type == CarmenMessage::Flaser || record.type == CarmenMessage::RobotLaser1)
       clock.push_back({record.ipc_timestamp, record.logger_timestamp});
   if (clock.empty())
     throw ParseError({printable(path), std::nullopt, std::nullopt, "FLASER"},

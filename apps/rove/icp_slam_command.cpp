@@ -98,7 +98,7 @@ OutputPlan plan_outputs(const fs::path& dir, const MultiMetricMap& map) {
 // What the text report and summary.json say about a finished run.
 struct RunFacts {
   std::string config, rawlog;
-  RawlogFormat format = RawlogFormat::kRove;
+  RawlogFormat format = RawlogFormat::Rove;
   float max_range = 0;
   std::string max_range_source = "default";
   Arithmetic arithmetic = Arithmetic::Double;
@@ -118,7 +118,7 @@ void write_maps(const fs::path& dir, const IcpSlam& slam, const std::vector<Pose
     if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
       const std::string stem = facts.grids == 0 ? "map" : fmt::format("map_{:02}", facts.grids);
       GridImageOptions scale;  // the whole probability, as MRPT's bitmap
-      scale.mode = RosMapMode::kScale;
+      scale.mode = RosMapMode::Scale;
       const RosMapFiles gf = save_ros_map((dir / stem).string(), g->grid(), scale);
       files.push_back(gf.image);
       files.push_back(gf.yaml);
@@ -127,7 +127,7 @@ void write_maps(const fs::path& dir, const IcpSlam& slam, const std::vector<Pose
     } else if (const auto* p = dynamic_cast<const PointsMetricMap*>(e.map.get())) {
       const std::string stem = clouds == 0 ? "points" : fmt::format("points_{:02}", clouds);
       PlyWriteOptions ascii;
-      ascii.format = PlyFormat::kAscii;
+      ascii.format = PlyFormat::Ascii;
       write_ply((dir / (stem + ".ply")).string(), p->points().cloud(), ascii);
       files.push_back((dir / (stem + ".ply")).string());
       render_points_png((dir / (stem + ".png")).string(), p->points().cloud(), path);
@@ -188,7 +188,7 @@ std::string summary_json(const RunFacts& f, const IcpSlam& slam, const std::vect
   j.key("format").value(to_string(f.format));
   j.key("arithmetic").value(std::string(to_string(f.arithmetic)));
   j.key("arithmetic_source").value(f.arithmetic_source);
-  if (f.format == RawlogFormat::kCarmen) {
+  if (f.format == RawlogFormat::Carmen) {
     j.key("carmen_max_range").value(static_cast<double>(f.max_range));
     j.key("carmen_max_range_source").value(f.max_range_source);
   }
@@ -232,7 +232,7 @@ void print_report(const RunFacts& f, const IcpSlam& slam, const std::string& out
   fmt::print("  arithmetic: {} ({}; {})\n", to_string(f.arithmetic), f.arithmetic_source,
              f.arithmetic == Arithmetic::Mrpt ? "MRPT 2.5.8's icp-slam reproduced to the bit"
                                               : "rove's double precision");
-  if (f.format == RawlogFormat::kCarmen) {
+  if (f.format == RawlogFormat::Carmen) {
     fmt::print("  CARMEN maximum range: {:g} m ({}; PARAM lines of the log take precedence)\n",
                f.max_range, f.max_range_source);
   }

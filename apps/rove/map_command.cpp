@@ -133,7 +133,7 @@ void run_map_build(const MapBuildArgs& a) {
                                   o->undecoded_velodyne_scans(), o->undecoded_velodyne_scans() == 1 ? "" : "s",
                                   o->undecoded_velodyne_reason())});
   }
-  const char* input_kind = r.input == MapInputKind::kSimpleMap ? "simplemap" : "rawlog";
+  const char* input_kind = r.input == MapInputKind::SimpleMap ? "simplemap" : "rawlog";
 
   if (a.json) {
     JsonWriter j;
@@ -224,8 +224,8 @@ void run_map_convert(const MapConvertArgs& a) {
   std::vector<std::string> written;
   if (to_yaml) {
     GridImageOptions o;
-    o.mode = a.probability || a.mode == "scale" ? RosMapMode::kScale : RosMapMode::kTrinary;
-    o.format = a.pgm ? ImageFormat::kPgm : ImageFormat::kPng;
+    o.mode = a.probability || a.mode == "scale" ? RosMapMode::Scale : RosMapMode::Trinary;
+    o.format = a.pgm ? ImageFormat::Pgm : ImageFormat::Png;
     const std::string prefix = a.output.substr(0, a.output.size() - 5);
     const fs::path image = prefix + (a.pgm ? ".pgm" : ".png");
     check_outputs_distinct(in.files, {image, a.output});
@@ -234,7 +234,7 @@ void run_map_convert(const MapConvertArgs& a) {
   } else {
     check_outputs_distinct(in.files, {a.output});
     save_grid(a.output, grid,
-              ends_with_ci(a.output, ".gz") ? FileCompression::kGzip : FileCompression::kNone);
+              ends_with_ci(a.output, ".gz") ? FileCompression::Gzip : FileCompression::None);
     written = {a.output};
   }
   if (a.json) {
@@ -296,7 +296,7 @@ void run_map_voronoi(const MapVoronoiArgs& a) {
       img.pixels[cx + static_cast<std::size_t>(vd.size_y - 1 - cy) * img.width] = 0;
     }
   }
-  write_gray_image(a.output, img, ends_with_ci(a.output, ".pgm") ? ImageFormat::kPgm : ImageFormat::kPng);
+  write_gray_image(a.output, img, ends_with_ci(a.output, ".pgm") ? ImageFormat::Pgm : ImageFormat::Png);
   std::vector<Issue> issues;
   if (vd.cells == 0) {
     issues.push_back({"empty-diagram",

@@ -108,7 +108,7 @@ class FileProgress {
   void update(const AnyRawlogReader& reader) {
     if (!show_) return;
     if (!progress_) {
-      if (reader.format() != RawlogFormat::kCarmen && !is_gzip_file(path_)) {
+      if (reader.format() != RawlogFormat::Carmen && !is_gzip_file(path_)) {
         total_ = std::filesystem::file_size(path_);
       }
       progress_.emplace(total_, label_ + " " + printable(path_), std::cerr);
@@ -168,7 +168,7 @@ RawlogSummary summarize(const std::string& path, bool show_progress, float max_r
     progress.update(reader);
   }
   progress.finish();
-  s.bytes = format == RawlogFormat::kCarmen ? 0 : reader.position();
+  s.bytes = format == RawlogFormat::Carmen ? 0 : reader.position();
   if (const auto* c = reader.carmen()) s.carmen = c->stats().log;
   return s;
 }
@@ -360,7 +360,7 @@ void add_rawlog_command(CLI::App& app) {
   info->add_flag("!--no-progress", options->progress, "Do not report progress on stderr");
   add_max_range(info, options->max_range);
   info->callback([options] {
-    RawlogFormat format = RawlogFormat::kMrpt;
+    RawlogFormat format = RawlogFormat::Mrpt;
     const RawlogSummary s =
         summarize(options->file, options->progress, options->max_range, format);
     if (options->json) {
@@ -384,8 +384,8 @@ void add_rawlog_command(CLI::App& app) {
   convert->add_flag("!--no-gzip", job->gzip, "Write plain bytes instead of gzip");
   convert->callback([job] {
     ConvertOptions o;
-    if (job->layout == 1) o.layout = RawlogLayout::kActionsSensoryFrames;
-    if (job->layout == 2) o.layout = RawlogLayout::kObservations;
+    if (job->layout == 1) o.layout = RawlogLayout::ActionsSensoryFrames;
+    if (job->layout == 2) o.layout = RawlogLayout::Observations;
     o.write = writer_options(job->gzip);
     o.read = read_options(job->max_range);
     FileProgress progress(job->in, job->progress, "converting");

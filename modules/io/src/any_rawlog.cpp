@@ -50,9 +50,9 @@ bool is_text_byte(unsigned char c) { return c == '\t' || c == '\n' || c == '\r' 
 
 std::string_view to_string(RawlogFormat format) noexcept {
   switch (format) {
-    case RawlogFormat::kRove: return "rove";
-    case RawlogFormat::kMrpt: return "MRPT";
-    case RawlogFormat::kCarmen: return "CARMEN";
+    case RawlogFormat::Rove: return "rove";
+    case RawlogFormat::Mrpt: return "MRPT";
+    case RawlogFormat::Carmen: return "CARMEN";
   }
   return "unknown";
 }
@@ -73,7 +73,7 @@ RawlogFormat detect_rawlog_format(const std::string& path) {
   }
   if (n >= kRoveRawlogMagic.size() &&
       std::memcmp(head.data(), kRoveRawlogMagic.data(), kRoveRawlogMagic.size()) == 0) {
-    return RawlogFormat::kRove;
+    return RawlogFormat::Rove;
   }
   const bool bzip2 = n >= 3 && std::memcmp(head.data(), "BZh", 3) == 0;
   bool text = true;
@@ -86,7 +86,7 @@ RawlogFormat detect_rawlog_format(const std::string& path) {
                        "not a rove rawlog, MRPT rawlog or CARMEN log: binary data that does not "
                        "start with an MRPT object header (class name length and name)");
     }
-    return RawlogFormat::kMrpt;
+    return RawlogFormat::Mrpt;
   }
   // Text (or bzip2): a CARMEN log only if it holds CARMEN message lines.
   if (!bzip2 && is_gzip_file(path)) {
@@ -102,19 +102,19 @@ RawlogFormat detect_rawlog_format(const std::string& path) {
                                  bzip2 ? "bzip2-compressed text" : "text",
                                  kCarmenSniffBytes / 1024));
   }
-  return RawlogFormat::kCarmen;
+  return RawlogFormat::Carmen;
 }
 
 AnyRawlogReader::AnyRawlogReader(const std::string& path, AnyRawlogOptions options)
     : path_(path), format_(detect_rawlog_format(path)) {
   switch (format_) {
-    case RawlogFormat::kRove:
+    case RawlogFormat::Rove:
       rove_ = std::make_unique<RoveRawlogReader>(path, options.rove);
       break;
-    case RawlogFormat::kMrpt:
+    case RawlogFormat::Mrpt:
       mrpt_ = std::make_unique<RawlogReader>(path, options.mrpt);
       break;
-    case RawlogFormat::kCarmen:
+    case RawlogFormat::Carmen:
       carmen_ = std::make_unique<CarmenRawlogSource>(
           CarmenRawlogSource::open(path, std::move(options.carmen)));
       break;
@@ -149,7 +149,7 @@ std::optional<RawlogEntry> AnyRawlogReader::next() {
             fmt::format("no rawlog entry from its {} CARMEN records ({} ODOM, {} TRUEPOS, no "
                         "laser scan{}): not a robot log in this layout",
                         s.records(), s.odom, s.truepos,
-                        carmen_->layout() == RawlogLayout::kActionsSensoryFrames
+                        carmen_->layout() == RawlogLayout::ActionsSensoryFrames
                             ? "; odometry alone gives entries only in layout #2"
                             : ""));
       }

@@ -17,11 +17,11 @@ namespace rove {
 
 std::string_view to_string(CarmenMessage message) noexcept {
   switch (message) {
-    case CarmenMessage::kFlaser: return "FLASER";
-    case CarmenMessage::kRlaser: return "RLASER";
-    case CarmenMessage::kOdom: return "ODOM";
-    case CarmenMessage::kRobotLaser1: return "ROBOTLASER1";
-    case CarmenMessage::kTruePos: return "TRUEPOS";
+    case CarmenMessage::Flaser: return "FLASER";
+    case CarmenMessage::Rlaser: return "RLASER";
+    case CarmenMessage::Odom: return "ODOM";
+    case CarmenMessage::RobotLaser1: return "ROBOTLASER1";
+    case CarmenMessage::TruePos: return "TRUEPOS";
   }
   return "UNKNOWN";
 }
@@ -195,11 +195,11 @@ struct CarmenLogReader::Impl {
     scan->aperture = kPi;
     scan->right_to_left = true;
     scan->max_range =
-        r.type == CarmenMessage::kRlaser ? stats.rear_max_range : stats.front_max_range;
+        r.type == CarmenMessage::Rlaser ? stats.rear_max_range : stats.front_max_range;
     scan->set_ranges(std::move(ranges));
     scan->timestamp = r.timestamp;
     scan->sensor_label =
-        r.type == CarmenMessage::kRlaser ? options.rear_laser_label : options.front_laser_label;
+        r.type == CarmenMessage::Rlaser ? options.rear_laser_label : options.front_laser_label;
     scan->T_robot_sensor = Pose3(r.laser_pose - r.robot_pose);
     r.scan = std::move(scan);
   }
@@ -312,11 +312,11 @@ struct CarmenLogReader::Impl {
   bool parse(CarmenRecord& r) {
     const std::string_view name = tokens[0];
     std::optional<CarmenMessage> type;
-    if (name == "FLASER") type = CarmenMessage::kFlaser;
-    else if (name == "RLASER") type = CarmenMessage::kRlaser;
-    else if (name == "ODOM") type = CarmenMessage::kOdom;
-    else if (name == "ROBOTLASER1") type = CarmenMessage::kRobotLaser1;
-    else if (name == "TRUEPOS") type = CarmenMessage::kTruePos;
+    if (name == "FLASER") type = CarmenMessage::Flaser;
+    else if (name == "RLASER") type = CarmenMessage::Rlaser;
+    else if (name == "ODOM") type = CarmenMessage::Odom;
+    else if (name == "ROBOTLASER1") type = CarmenMessage::RobotLaser1;
+    else if (name == "TRUEPOS") type = CarmenMessage::TruePos;
     if (!type) {
       if (name == "PARAM") {
         read_param();  // a malformed range is counted as malformed only
@@ -331,18 +331,18 @@ struct CarmenLogReader::Impl {
     r.line = stats.lines;
     Fields f(name, tokens);
     switch (*type) {
-      case CarmenMessage::kFlaser:
-      case CarmenMessage::kRlaser: parse_flaser(f, r, name); break;
-      case CarmenMessage::kOdom: parse_odom(f, r); break;
-      case CarmenMessage::kRobotLaser1: parse_robotlaser1(f, r); break;
-      case CarmenMessage::kTruePos: parse_truepos(f, r); break;
+      case CarmenMessage::Flaser:
+      case CarmenMessage::Rlaser: parse_flaser(f, r, name); break;
+      case CarmenMessage::Odom: parse_odom(f, r); break;
+      case CarmenMessage::RobotLaser1: parse_robotlaser1(f, r); break;
+      case CarmenMessage::TruePos: parse_truepos(f, r); break;
     }
     switch (*type) {
-      case CarmenMessage::kFlaser: ++stats.flaser; break;
-      case CarmenMessage::kRlaser: ++stats.rlaser; break;
-      case CarmenMessage::kOdom: ++stats.odom; break;
-      case CarmenMessage::kRobotLaser1: ++stats.robotlaser1; break;
-      case CarmenMessage::kTruePos: ++stats.truepos; break;
+      case CarmenMessage::Flaser: ++stats.flaser; break;
+      case CarmenMessage::Rlaser: ++stats.rlaser; break;
+      case CarmenMessage::Odom: ++stats.odom; break;
+      case CarmenMessage::RobotLaser1: ++stats.robotlaser1; break;
+      case CarmenMessage::TruePos: ++stats.truepos; break;
     }
     return true;
   }

@@ -13,8 +13,8 @@ namespace rove {
 namespace {
 
 void check_options(const CarmenToRawlogOptions& options) {
-  ROVE_CHECK_MSG(options.layout == RawlogLayout::kActionsSensoryFrames ||
-                     options.layout == RawlogLayout::kObservations,
+  ROVE_CHECK_MSG(options.layout == RawlogLayout::ActionsSensoryFrames ||
+                     options.layout == RawlogLayout::Observations,
                  "CARMEN logs convert to layout #1 or #2");
   options.motion_model.check();
 }
@@ -40,11 +40,11 @@ CarmenRawlogSource CarmenRawlogSource::from_memory(std::string bytes, std::strin
 }
 
 void CarmenRawlogSource::convert(CarmenRecord& record) {
-  const bool layout1 = options_.layout == RawlogLayout::kActionsSensoryFrames;
+  const bool layout1 = options_.layout == RawlogLayout::ActionsSensoryFrames;
   switch (record.type) {
-    case CarmenMessage::kFlaser:
-    case CarmenMessage::kRlaser:
-    case CarmenMessage::kRobotLaser1: {
+    case CarmenMessage::Flaser:
+    case CarmenMessage::Rlaser:
+    case CarmenMessage::RobotLaser1: {
       ROVE_CHECK(record.scan != nullptr);
       ++stats_.scans;
       std::shared_ptr<const RangeScan2D> scan(std::move(record.scan));
@@ -76,7 +76,7 @@ void CarmenRawlogSource::convert(CarmenRecord& record) {
       }
       break;
     }
-    case CarmenMessage::kOdom: {
+    case CarmenMessage::Odom: {
       if (layout1 || !options_.odom_lines) {
         ++stats_.odom_not_used;
         break;
@@ -87,7 +87,7 @@ void CarmenRawlogSource::convert(CarmenRecord& record) {
       ++stats_.observations;
       break;
     }
-    case CarmenMessage::kTruePos:
+    case CarmenMessage::TruePos:
       ++stats_.truepos_dropped;
       break;
   }

@@ -242,8 +242,8 @@ ImageFormat image_format_from_path(std::string_view path) {
   const auto dot = path.find_last_of('.');
   if (dot != std::string_view::npos) ext = std::string(path.substr(dot + 1));
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == "png") return ImageFormat::kPng;
-  if (ext == "pgm") return ImageFormat::kPgm;
+  if (ext == "png") return ImageFormat::Png;
+  if (ext == "pgm") return ImageFormat::Pgm;
   throw InvalidArgument(
       fmt::format("{}: unknown image extension (expected .png or .pgm)", path));
 }
@@ -428,7 +428,7 @@ std::vector<std::uint8_t> encode_pgm(const GrayImage& image) {
 }
 
 void write_gray_image(const std::string& path, const GrayImage& image, ImageFormat format) {
-  write_file_bytes(path, format == ImageFormat::kPng ? encode_png(image) : encode_pgm(image));
+  write_file_bytes(path, format == ImageFormat::Png ? encode_png(image) : encode_pgm(image));
 }
 
 void write_png(const std::string& path, const GrayImage& image, const PngEncoding& encoding) {

@@ -14,24 +14,24 @@
 namespace rove {
 namespace {
 
-enum class PixelClass : unsigned char { kFree, kOccupied, kUnknown, kPercent };
+enum class PixelClass : unsigned char { Free, Occupied, Unknown, Percent };
 
-// map_server's image_loader for one gray value: the class, and for kPercent
+// map_server's image_loader for one gray value: the class, and for Percent
 // the occupancy in percent.
 PixelClass classify(std::uint8_t v, const RosMapYaml& y, int* percent) {
-  if (y.mode == RosMapMode::kRaw) {
-    if (v > 100) return PixelClass::kUnknown;
+  if (y.mode == RosMapMode::Raw) {
+    if (v > 100) return PixelClass::Unknown;
     *percent = v;
-    return PixelClass::kPercent;
+    return PixelClass::Percent;
   }
   const double occ = (y.negate ? v : 255.0 - v) / 255.0;
-  if (occ > y.occupied_thresh) return PixelClass::kOccupied;
-  if (occ < y.free_thresh) return PixelClass::kFree;
-  if (y.mode == RosMapMode::kTrinary) return PixelClass::kUnknown;
+  if (occ > y.occupied_thresh) return PixelClass::Occupied;
+  if (occ < y.free_thresh) return PixelClass::Free;
+  if (y.mode == RosMapMode::Trinary) return PixelClass::Unknown;
   const double span = y.occupied_thresh - y.free_thresh;
   const double ratio = span > 0 ? (occ - y.free_thresh) / span : 0.0;
   *percent = static_cast<int>(1 + 98 * ratio);  // truncated, as map_server's int8 value
-  return PixelClass::kPercent;
+  return PixelClass::Percent;
 }
 
 std::string file_name(const std::string& path) {
@@ -45,7 +45,7 @@ GrayImage grid_to_image(const OccupancyGrid& grid, const GridImageOptions& o) {
   ROVE_CHECK_MSG(o.free_thresh >= 0 && o.free_thresh <= o.occupied_thresh && o.occupied_thresh <= 1,
                  "thresholds must satisfy 0 <= free_thresh ({}) <= occupied_thresh ({}) <= 1",
                  o.free_thresh, o.occupied_thresh);
-  ROVE_CHECK_MSG(o.mode != RosMapMode::kRaw, "grid images are written in trinary or scale mode");
+  ROVE_CHECK_MSG(o.mode != RosMapMode::Raw, "grid images are written in trinary or scale mode");
   const std::uint32_t w = grid.size_x(), h = grid.size_y();
   GrayImage img;
   img.width = w;
@@ -58,7 +58,7 @@ GrayImage grid_to_image(const OccupancyGrid& grid, const GridImageOptions& o) {
   reader.free_thresh = o.free_thresh;
   int unused = 0;
   std::uint8_t unknown = 205;
-  if (classify(unknown, reader, &unused) != PixelClass::kUnknown) {
+  if (classify(unknown, reader, &unused) != PixelClass::Unknown) {
     unknown = static_cast<std::uint8_t>(
         std::lround(255.0 * (1.0 - 0.5 * (o.free_thresh + o.occupied_thresh))));
   }
@@ -68,7 +68,7 @@ GrayImage grid_to_image(const OccupancyGrid& grid, const GridImageOptions& o) {
     const std::int8_t* cells = grid.cells().data() + static_cast<std::size_t>(cy) * w;
     for (std::uint32_t cx = 0; cx < w; ++cx) {
       const float p_free = lut.l2p(cells[cx]);
-      if (o.mode == RosMapMode::kScale) {
+      if (o.mode == RosMapMode::Scale) {
         row[cx] = static_cast<std::uint8_t>(std::clamp(std::lround(255.0f * p_free), 0L, 255L));
       } else {
         const double occ = 1.0 - static_cast<double>(p_free);
@@ -113,10 +113,10 @@ OccupancyGrid grid_from_image(const GrayImage& image, const RosMapYaml& yaml,
     int percent = 0;
     float p_free = 0.5f;
     switch (classify(static_cast<std::uint8_t>(v), yaml, &percent)) {
-      case PixelClass::kFree: p_free = 1.0f; break;
-      case PixelClass::kOccupied: p_free = 0.0f; break;
-      case PixelClass::kUnknown: p_free = 0.5f; break;
-      case PixelClass::kPercent: p_free = 1.0f - static_cast<float>(percent) / 100.0f; break;
+      case PixelClass::Free: p_free = 1.0f; break;
+      case PixelClass::Occupied: p_free = 0.0f; break;
+      case PixelClass::Unknown: p_free = 0.5f; break;
+      case PixelClass::Percent: p_free = 1.0f - static_cast<float>(percent) / 100.0f; break;
     }
     cell_of[static_cast<std::size_t>(v)] = lut.p2l(p_free);
   }
@@ -136,7 +136,7 @@ OccupancyGrid grid_from_image(const GrayImage& image, const RosMapYaml& yaml,
 RosMapFiles save_ros_map(const std::string& prefix, const OccupancyGrid& grid,
                          const GridImageOptions& options) {
   RosMapFiles files;
-  files.image = prefix + (options.format == ImageFormat::kPng ? ".png" : ".pgm");
+  files.image = prefix + (options.format == ImageFormat::Png ? ".png" : ".pgm");
   files.yaml = prefix + ".yaml";
   write_gray_image(files.image, grid_to_image(grid, options), options.format);
   RosMapYaml y;

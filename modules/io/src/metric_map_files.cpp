@@ -23,8 +23,8 @@ namespace {
 std::vector<std::string> save_grid_map(const std::string& prefix, const OccupancyGrid& grid) {
   const std::string img = prefix + ".pgm";
   GridImageOptions scale;
-  scale.mode = RosMapMode::kScale;
-  write_gray_image(img, grid_to_image(grid, scale), ImageFormat::kPgm);
+  scale.mode = RosMapMode::Scale;
+  write_gray_image(img, grid_to_image(grid, scale), ImageFormat::Pgm);
   const std::string lim = prefix + "_limits.txt";
   write_text_file_atomically(
       lim, "% Grid limits: [x_min x_max y_min y_max]\n" +

@@ -364,7 +364,7 @@ MrptObject read_robot_movement_2d(InArchive& ar, const MrptObjectHeader& h) {
                  fmt::format("unknown motion model {}", model));
     }
     MotionModelOptions& o = mv->motion_model;
-    o.model = model == 0 ? MotionModel::kGaussian : MotionModel::kThrun;
+    o.model = model == 0 ? MotionModel::Gaussian : MotionModel::Thrun;
     // Both parameter sets are stored in SI units (m, rad), as floats.
     o.gaussian.a1_m_per_m = ar.read_scalar<float>(kField);
     o.gaussian.a2_m_per_rad = ar.read_scalar<float>(kField);

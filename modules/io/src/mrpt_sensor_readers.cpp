@@ -231,7 +231,7 @@ T field_at(std::span<const std::uint8_t> bytes, std::size_t offset) {
 }
 
 void set_fix_quality(InArchive& ar, std::uint64_t at, GpsObservation& g, std::uint8_t q) {
-  if (q > static_cast<std::uint8_t>(GpsFixQuality::kSimulation)) {
+  if (q > static_cast<std::uint8_t>(GpsFixQuality::Simulation)) {
     ar.fail_at(at, "CObservationGPS.GGA.fix_quality", fmt::format("unknown fix quality {}", q));
   }
   g.fix_quality = static_cast<GpsFixQuality>(q);
@@ -401,9 +401,9 @@ MrptObject read_gps(InArchive& ar, const MrptObjectHeader& h) {
 // OpenCV depth codes MRPT's CImage v9 stores for gray images.
 PixelType pixel_type_from_depth(InArchive& ar, std::uint64_t at, std::int32_t depth) {
   switch (depth) {
-    case 0: return PixelType::kU8;   // CV_8U
-    case 2: return PixelType::kU16;  // CV_16U
-    case 5: return PixelType::kF32;  // CV_32F
+    case 0: return PixelType::U8;   // CV_8U
+    case 2: return PixelType::U16;  // CV_16U
+    case 5: return PixelType::F32;  // CV_32F
     default:
       ar.fail_at(at, "CImage.depth",
                  fmt::format("pixel depth {} is not supported (8U, 16U and 32F are)", depth));
@@ -434,7 +434,7 @@ MrptObject read_image(InArchive& ar, const MrptObjectHeader& h) {
     const auto height = ar.read_scalar<std::int32_t>("CImage.height");
     static_cast<void>(ar.read_scalar<std::int32_t>("CImage.origin"));
     const auto size = ar.read_scalar<std::int32_t>("CImage.imageSize");
-    PixelType type = PixelType::kU8;
+    PixelType type = PixelType::U8;
     if (h.version >= 9) {
       const std::uint64_t depth_at = ar.offset();
       type = pixel_type_from_depth(ar, depth_at, ar.read_scalar<std::int32_t>("CImage.depth"));
@@ -470,7 +470,7 @@ MrptObject read_image(InArchive& ar, const MrptObjectHeader& h) {
     ar.fail_at(at, kField, "JPEG-compressed color image: rove has no JPEG decoder");
   }
   img.channels = 3;
-  img.pixel_type = PixelType::kU8;
+  img.pixel_type = PixelType::U8;
   if (width < 0 && height < 0) {
     // Raw rows of B, G, R bytes; rove stores R, G, B.
     img.width = static_cast<std::uint32_t>(-static_cast<std::int64_t>(width));
@@ -677,7 +677,7 @@ MrptObject read_range_scan_3d(InArchive& ar, const MrptObjectHeader& h) {
       ar.fail_at(at, "CObservation3DRangeScan.intensityImageChannel",
                  fmt::format("unknown intensity channel {}", ch));
     }
-    o->intensity_channel = ch == 0 ? IntensityChannel::kVisible : IntensityChannel::kInfrared;
+    o->intensity_channel = ch == 0 ? IntensityChannel::Visible : IntensityChannel::Infrared;
   }
   if (h.version >= 7) {
     const std::uint64_t at = ar.offset();

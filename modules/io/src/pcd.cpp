@@ -49,9 +49,9 @@ bool parse_number(std::string_view tok, T& out) {
 
 ScalarKind kind_of(char type, std::uint32_t size) {
   switch (type) {
-    case 'F': return size == 4 ? ScalarKind::kF32 : ScalarKind::kF64;
-    case 'I': return size == 1 ? ScalarKind::kI8 : size == 2 ? ScalarKind::kI16 : size == 4 ? ScalarKind::kI32 : ScalarKind::kI64;
-    default: return size == 1 ? ScalarKind::kU8 : size == 2 ? ScalarKind::kU16 : size == 4 ? ScalarKind::kU32 : ScalarKind::kU64;
+    case 'F': return size == 4 ? ScalarKind::F32 : ScalarKind::F64;
+    case 'I': return size == 1 ? ScalarKind::I8 : size == 2 ? ScalarKind::I16 : size == 4 ? ScalarKind::I32 : ScalarKind::I64;
+    default: return size == 1 ? ScalarKind::U8 : size == 2 ? ScalarKind::U16 : size == 4 ? ScalarKind::U32 : ScalarKind::U64;
   }
 }
 
@@ -167,9 +167,9 @@ HeaderParse parse_header(std::span<const std::uint8_t> bytes, std::string_view s
       line_points = line_no;
     } else if (key == "DATA") {
       need_args(1);
-      if (tok[1] == "ascii") h.format = PcdFormat::kAscii;
-      else if (tok[1] == "binary") h.format = PcdFormat::kBinary;
-      else if (tok[1] == "binary_compressed") h.format = PcdFormat::kBinaryCompressed;
+      if (tok[1] == "ascii") h.format = PcdFormat::Ascii;
+      else if (tok[1] == "binary") h.format = PcdFormat::Binary;
+      else if (tok[1] == "binary_compressed") h.format = PcdFormat::BinaryCompressed;
       else fail_line(src, line_no, "DATA", fmt::format("unknown data encoding '{}'", tok[1]));
       have_data = true;
     } else {
@@ -249,10 +249,10 @@ Layout make_layout(const PcdHeader& h, std::string_view src) {
 
 PointCloud make_cloud(const Layout& l, std::size_t reserve) {
   PointCloud c;
-  PointChannels ch = PointChannels::kNone;
-  if (l.rgb >= 0) ch = ch | PointChannels::kColor;
-  if (l.intensity >= 0) ch = ch | PointChannels::kIntensity;
-  if (l.nx >= 0) ch = ch | PointChannels::kNormal;
+  PointChannels ch = PointChannels::None;
+  if (l.rgb >= 0) ch = ch | PointChannels::Color;
+  if (l.intensity >= 0) ch = ch | PointChannels::Intensity;
+  if (l.nx >= 0) ch = ch | PointChannels::Normal;
   c.set_channels(ch);
   c.reserve(reserve);
   return c;
@@ -390,12 +390,12 @@ PointCloud read_pcd_from_memory(std::span<const std::uint8_t> bytes, std::string
   const std::size_t remaining = bytes.size() - off;
   PointCloud cloud;
 
-  if (h.format == PcdFormat::kAscii) {
+  if (h.format == PcdFormat::Ascii) {
     // Every point needs at least two characters per value: never reserve more.
     const std::uint64_t cap = remaining / (2 * std::max<std::size_t>(l.tokens, 1));
     cloud = make_cloud(l, static_cast<std::size_t>(std::min<std::uint64_t>(h.points, cap)));
     read_ascii(cloud, h, l, bytes, off, hp.data_line, src);
-  } else if (h.format == PcdFormat::kBinary) {
+  } else if (h.format == PcdFormat::Binary) {
     std::uint64_t need = 0;
     if (__builtin_mul_overflow(h.points, static_cast<std::uint64_t>(l.record_size), &need) || need > remaining)
       fail_offset(src, off, "DATA",
@@ -479,8 +479,8 @@ std::vector<std::uint8_t> write_pcd_to_memory(const PointCloud& cloud, const Pcd
   head += "\nCOUNT";
   for (std::size_t i = 0; i < nf; ++i) head += " 1";
   head += fmt::format("\nWIDTH {}\nHEIGHT {}\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {}\nDATA {}\n", width, height, n,
-                      o.format == PcdFormat::kAscii    ? "ascii"
-                      : o.format == PcdFormat::kBinary ? "binary"
+                      o.format == PcdFormat::Ascii    ? "ascii"
+                      : o.format == PcdFormat::Binary ? "binary"
                                                        : "binary_compressed");
 
   // Value of field k of point i, as a float.
@@ -502,7 +502,7 @@ std::vector<std::uint8_t> write_pcd_to_memory(const PointCloud& cloud, const Pcd
   };
 
   std::vector<std::uint8_t> out(head.begin(), head.end());
-  if (o.format == PcdFormat::kAscii) {
+  if (o.format == PcdFormat::Ascii) {
     std::string body;
     body.reserve(n * nf * 10);
     for (std::size_t i = 0; i < n; ++i) {
@@ -513,7 +513,7 @@ std::vector<std::uint8_t> write_pcd_to_memory(const PointCloud& cloud, const Pcd
       body += '\n';
     }
     out.insert(out.end(), body.begin(), body.end());
-  } else if (o.format == PcdFormat::kBinary) {
+  } else if (o.format == PcdFormat::Binary) {
     std::vector<std::uint8_t> body(n * nf * 4);
     std::uint8_t* p = body.data();
     for (std::size_t i = 0; i < n; ++i)

@@ -8,10 +8,10 @@ namespace rove::detail {
 
 std::size_t scalar_size(ScalarKind k) noexcept {
   switch (k) {
-    case ScalarKind::kI8: case ScalarKind::kU8: return 1;
-    case ScalarKind::kI16: case ScalarKind::kU16: return 2;
-    case ScalarKind::kI32: case ScalarKind::kU32: case ScalarKind::kF32: return 4;
-    case ScalarKind::kI64: case ScalarKind::kU64: case ScalarKind::kF64: return 8;
+    case ScalarKind::I8: case ScalarKind::U8: return 1;
+    case ScalarKind::I16: case ScalarKind::U16: return 2;
+    case ScalarKind::I32: case ScalarKind::U32: case ScalarKind::F32: return 4;
+    case ScalarKind::I64: case ScalarKind::U64: case ScalarKind::F64: return 8;
   }
   return 0;
 }
@@ -31,16 +31,16 @@ T load_as(const std::uint8_t* p, bool swap) noexcept {
 
 double load_scalar(const std::uint8_t* p, ScalarKind k, bool swap) noexcept {
   switch (k) {
-    case ScalarKind::kI8: return load_as<std::int8_t>(p, swap);
-    case ScalarKind::kU8: return load_as<std::uint8_t>(p, swap);
-    case ScalarKind::kI16: return load_as<std::int16_t>(p, swap);
-    case ScalarKind::kU16: return load_as<std::uint16_t>(p, swap);
-    case ScalarKind::kI32: return load_as<std::int32_t>(p, swap);
-    case ScalarKind::kU32: return load_as<std::uint32_t>(p, swap);
-    case ScalarKind::kI64: return static_cast<double>(load_as<std::int64_t>(p, swap));
-    case ScalarKind::kU64: return static_cast<double>(load_as<std::uint64_t>(p, swap));
-    case ScalarKind::kF32: return load_as<float>(p, swap);
-    case ScalarKind::kF64: return load_as<double>(p, swap);
+    case ScalarKind::I8: return load_as<std::int8_t>(p, swap);
+    case ScalarKind::U8: return load_as<std::uint8_t>(p, swap);
+    case ScalarKind::I16: return load_as<std::int16_t>(p, swap);
+    case ScalarKind::U16: return load_as<std::uint16_t>(p, swap);
+    case ScalarKind::I32: return load_as<std::int32_t>(p, swap);
+    case ScalarKind::U32: return load_as<std::uint32_t>(p, swap);
+    case ScalarKind::I64: return static_cast<double>(load_as<std::int64_t>(p, swap));
+    case ScalarKind::U64: return static_cast<double>(load_as<std::uint64_t>(p, swap));
+    case ScalarKind::F32: return load_as<float>(p, swap);
+    case ScalarKind::F64: return load_as<double>(p, swap);
   }
   return 0;
 }

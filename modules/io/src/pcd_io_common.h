@@ -11,7 +11,7 @@
 namespace rove::detail {
 
 /// Numeric element kinds of PCD and PLY columns.
-enum class ScalarKind : std::uint8_t { kI8, kU8, kI16, kU16, kI32, kU32, kI64, kU64, kF32, kF64 };
+enum class ScalarKind : std::uint8_t { I8, U8, I16, U16, I32, U32, I64, U64, F32, F64 };
 std::size_t scalar_size(ScalarKind k) noexcept;
 
 /// Value of one element stored at p (little-endian unless `swap`).

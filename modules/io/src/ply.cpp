@@ -28,24 +28,24 @@ using detail::ScalarKind;
 }
 
 std::optional<ScalarKind> parse_type(std::string_view t) {
-  if (t == "char" || t == "int8") return ScalarKind::kI8;
-  if (t == "uchar" || t == "uint8") return ScalarKind::kU8;
-  if (t == "short" || t == "int16") return ScalarKind::kI16;
-  if (t == "ushort" || t == "uint16") return ScalarKind::kU16;
-  if (t == "int" || t == "int32") return ScalarKind::kI32;
-  if (t == "uint" || t == "uint32") return ScalarKind::kU32;
-  if (t == "float" || t == "float32") return ScalarKind::kF32;
-  if (t == "double" || t == "float64") return ScalarKind::kF64;
+  if (t == "char" || t == "int8") return ScalarKind::I8;
+  if (t == "uchar" || t == "uint8") return ScalarKind::U8;
+  if (t == "short" || t == "int16") return ScalarKind::I16;
+  if (t == "ushort" || t == "uint16") return ScalarKind::U16;
+  if (t == "int" || t == "int32") return ScalarKind::I32;
+  if (t == "uint" || t == "uint32") return ScalarKind::U32;
+  if (t == "float" || t == "float32") return ScalarKind::F32;
+  if (t == "double" || t == "float64") return ScalarKind::F64;
   return std::nullopt;
 }
 
-bool is_float(ScalarKind k) { return k == ScalarKind::kF32 || k == ScalarKind::kF64; }
+bool is_float(ScalarKind k) { return k == ScalarKind::F32 || k == ScalarKind::F64; }
 
 struct Property {
   std::string name;
-  ScalarKind type = ScalarKind::kF32;
+  ScalarKind type = ScalarKind::F32;
   bool is_list = false;
-  ScalarKind count_type = ScalarKind::kU8;
+  ScalarKind count_type = ScalarKind::U8;
 };
 
 struct Element {
@@ -81,7 +81,7 @@ std::uint8_t to_color(double v, ScalarKind k) {
 /// Where each slot comes from in the vertex element (-1: absent).
 struct VertexMap {
   int prop_of[kSlots];
-  PointChannels channels = PointChannels::kNone;
+  PointChannels channels = PointChannels::None;
 };
 
 VertexMap map_vertex(const Element& e, std::string_view src) {
@@ -97,10 +97,10 @@ VertexMap map_vertex(const Element& e, std::string_view src) {
   for (int s : {kX, kY, kZ})
     if (m.prop_of[s] < 0)
       fail_line(src, e.line, s == kX ? "x" : s == kY ? "y" : "z", "the vertex element has no such property");
-  if (m.prop_of[kR] >= 0 && m.prop_of[kG] >= 0 && m.prop_of[kB] >= 0) m.channels = m.channels | PointChannels::kColor;
-  if (m.prop_of[kI] >= 0) m.channels = m.channels | PointChannels::kIntensity;
+  if (m.prop_of[kR] >= 0 && m.prop_of[kG] >= 0 && m.prop_of[kB] >= 0) m.channels = m.channels | PointChannels::Color;
+  if (m.prop_of[kI] >= 0) m.channels = m.channels | PointChannels::Intensity;
   if (m.prop_of[kNx] >= 0 && m.prop_of[kNy] >= 0 && m.prop_of[kNz] >= 0)
-    m.channels = m.channels | PointChannels::kNormal;
+    m.channels = m.channels | PointChannels::Normal;
   return m;
 }
 
@@ -131,9 +131,9 @@ double ascii_value(std::string_view t, ScalarKind k, std::string_view src, std::
     // Out of range only if it rounds to infinity: |v| >= FLT_MAX + half an ulp
     // (2^128 - 2^103). "3.4028235e+38", the shortest text of FLT_MAX, is above
     // FLT_MAX itself (fuzz finding, test Ply.AsciiFltMaxReadsBack).
-    if (k == ScalarKind::kF32 && std::isfinite(v) && std::fabs(v) >= 3.4028235677973366e38)
+    if (k == ScalarKind::F32 && std::isfinite(v) && std::fabs(v) >= 3.4028235677973366e38)
       fail_line(src, line, name, fmt::format("'{}' is out of the float range", t));
-    if (k == ScalarKind::kF32) {
+    if (k == ScalarKind::F32) {
       // Parse as float directly so the value is correctly rounded once.
       float f;
       const auto rf = std::from_chars(b, t.data() + t.size(), f);
@@ -141,7 +141,7 @@ double ascii_value(std::string_view t, ScalarKind k, std::string_view src, std::
     }
     return v;
   }
-  const bool is_signed = k == ScalarKind::kI8 || k == ScalarKind::kI16 || k == ScalarKind::kI32;
+  const bool is_signed = k == ScalarKind::I8 || k == ScalarKind::I16 || k == ScalarKind::I32;
   const int bits = static_cast<int>(detail::scalar_size(k)) * 8;
   if (is_signed) {
     std::int64_t v;
@@ -191,9 +191,9 @@ PointCloud read_ply_from_memory(std::span<const std::uint8_t> bytes, std::string
     if (key == "comment" || key == "obj_info") continue;
     if (key == "format") {
       if (tok.size() != 3) fail_line(src, line_no, "format", "expects: format <encoding> <version>");
-      if (tok[1] == "ascii") format = PlyFormat::kAscii;
-      else if (tok[1] == "binary_little_endian") format = PlyFormat::kBinaryLittleEndian;
-      else if (tok[1] == "binary_big_endian") format = PlyFormat::kBinaryBigEndian;
+      if (tok[1] == "ascii") format = PlyFormat::Ascii;
+      else if (tok[1] == "binary_little_endian") format = PlyFormat::BinaryLittleEndian;
+      else if (tok[1] == "binary_big_endian") format = PlyFormat::BinaryBigEndian;
       else fail_line(src, line_no, "format", fmt::format("unknown encoding '{}'", tok[1]));
       if (tok[2] != "1.0") fail_line(src, line_no, "format", fmt::format("unsupported version '{}'", tok[2]));
     } else if (key == "element") {
@@ -247,7 +247,7 @@ PointCloud read_ply_from_memory(std::span<const std::uint8_t> bytes, std::string
   const std::size_t data_start = pos;
   std::vector<double> values;
 
-  if (*format == PlyFormat::kAscii) {
+  if (*format == PlyFormat::Ascii) {
     // Elements are read as a stream of tokens, one instance after the other.
     std::size_t tpos = 0;
     std::vector<std::string_view> line_tok;
@@ -281,7 +281,7 @@ PointCloud read_ply_from_memory(std::span<const std::uint8_t> bytes, std::string
       }
     }
   } else {
-    const bool swap = (*format == PlyFormat::kBinaryBigEndian) != (std::endian::native == std::endian::big);
+    const bool swap = (*format == PlyFormat::BinaryBigEndian) != (std::endian::native == std::endian::big);
     std::size_t off = data_start;
     auto need = [&](std::uint64_t n, const std::string& what) {
       if (n > bytes.size() - off)
@@ -334,8 +334,8 @@ std::vector<std::uint8_t> write_ply_to_memory(const PointCloud& cloud, const Ply
   const bool inten = o.write_intensity && cloud.has_intensity();
   const bool nrm = o.write_normals && cloud.has_normals();
   std::string head = fmt::format("ply\nformat {} 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
-                                 o.format == PlyFormat::kAscii                ? "ascii"
-                                 : o.format == PlyFormat::kBinaryLittleEndian ? "binary_little_endian"
+                                 o.format == PlyFormat::Ascii                ? "ascii"
+                                 : o.format == PlyFormat::BinaryLittleEndian ? "binary_little_endian"
                                                                               : "binary_big_endian",
                                  cloud.size());
   if (rgb) head += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
@@ -343,7 +343,7 @@ std::vector<std::uint8_t> write_ply_to_memory(const PointCloud& cloud, const Ply
   if (nrm) head += "property float nx\nproperty float ny\nproperty float nz\n";
   head += "end_header\n";
   std::vector<std::uint8_t> out(head.begin(), head.end());
-  if (o.format == PlyFormat::kAscii) {
+  if (o.format == PlyFormat::Ascii) {
     std::string body;
     for (std::size_t i = 0; i < cloud.size(); ++i) {
       for (int k = 0; k < 3; ++k) {
@@ -364,7 +364,7 @@ std::vector<std::uint8_t> write_ply_to_memory(const PointCloud& cloud, const Ply
     }
     out.insert(out.end(), body.begin(), body.end());
   } else {
-    const bool swap = (o.format == PlyFormat::kBinaryBigEndian) != (std::endian::native == std::endian::big);
+    const bool swap = (o.format == PlyFormat::BinaryBigEndian) != (std::endian::native == std::endian::big);
     auto put_f = [&](float v) {
       std::uint32_t b = std::bit_cast<std::uint32_t>(v);
       if (swap) b = __builtin_bswap32(b);

@@ -62,11 +62,11 @@ Rawlog load_rawlog(const std::string& path, RawlogReaderOptions options) {
     out.entries.push_back(std::move(*e));
   }
   if (has_frames && has_observations) {
-    out.layout = RawlogLayout::kMixed;
+    out.layout = RawlogLayout::Mixed;
   } else if (has_frames) {
-    out.layout = RawlogLayout::kActionsSensoryFrames;
+    out.layout = RawlogLayout::ActionsSensoryFrames;
   } else if (has_observations) {
-    out.layout = RawlogLayout::kObservations;
+    out.layout = RawlogLayout::Observations;
   }
   return out;
 }

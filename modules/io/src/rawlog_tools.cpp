@@ -42,7 +42,7 @@ RoveRawlogWriterOptions with_metadata(RoveRawlogWriterOptions w, const std::stri
 
 RawlogLayout input_layout(const AnyRawlogReader& reader) {
   // MRPT files declare none: mixed admits whatever they hold.
-  return reader.declared_layout().value_or(RawlogLayout::kMixed);
+  return reader.declared_layout().value_or(RawlogLayout::Mixed);
 }
 
 void count_entry(std::map<std::string, std::uint64_t>& counts, const RawlogEntry& e) {
@@ -301,8 +301,8 @@ std::string mrpt_txt_odometry_row(const Pose2& odometry, const std::optional<Enc
 
 RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
                                const ConvertOptions& options, const RawlogProgressFn& progress) {
-  ROVE_CHECK_MSG(!options.layout || *options.layout == RawlogLayout::kActionsSensoryFrames ||
-                     *options.layout == RawlogLayout::kObservations,
+  ROVE_CHECK_MSG(!options.layout || *options.layout == RawlogLayout::ActionsSensoryFrames ||
+                     *options.layout == RawlogLayout::Observations,
                  "convert_rawlog: the output layout is #1 or #2");
   options.motion_model.check();
   check_in_out(in, out);
@@ -317,8 +317,8 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
     // kind is then converted as below).
     std::optional<RawlogEntry> first = reader.next();
     RawlogLayout out_layout = options.layout.value_or(
-        reader.declared_layout().value_or(first ? layout_of({*first}) : RawlogLayout::kActionsSensoryFrames));
-    if (out_layout == RawlogLayout::kEmpty) out_layout = RawlogLayout::kActionsSensoryFrames;
+        reader.declared_layout().value_or(first ? layout_of({*first}) : RawlogLayout::ActionsSensoryFrames));
+    if (out_layout == RawlogLayout::Empty) out_layout = RawlogLayout::ActionsSensoryFrames;
     RoveRawlogWriter writer(tmp.string(), with_metadata(options.write, in, r.input_format, out_layout));
 
     // #1 → #2 state.
@@ -347,11 +347,11 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
       throw_if_interrupted();
       ++r.entries_in;
       const bool is_obs = std::holds_alternative<ObsPtr>(*e);
-      if (out_layout == RawlogLayout::kMixed || layout_of({*e}) == out_layout) {
-        if (out_layout == RawlogLayout::kActionsSensoryFrames) flush_frame();
+      if (out_layout == RawlogLayout::Mixed || layout_of({*e}) == out_layout) {
+        if (out_layout == RawlogLayout::ActionsSensoryFrames) flush_frame();
         writer.write(*e);
         count_entry(r.kept, *e);
-      } else if (out_layout == RawlogLayout::kObservations) {
+      } else if (out_layout == RawlogLayout::Observations) {
         // #1 → #2.
         if (auto* ac = std::get_if<ActionsPtr>(&*e)) {
           for (const auto& a : (*ac)->actions) {

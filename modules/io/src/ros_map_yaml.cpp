@@ -220,9 +220,9 @@ std::string scalar_text(const std::string& v) {
 
 std::string_view to_string(RosMapMode mode) {
   switch (mode) {
-    case RosMapMode::kTrinary: return "trinary";
-    case RosMapMode::kScale: return "scale";
-    case RosMapMode::kRaw: return "raw";
+    case RosMapMode::Trinary: return "trinary";
+    case RosMapMode::Scale: return "scale";
+    case RosMapMode::Raw: return "raw";
   }
   return "?";
 }
@@ -264,11 +264,11 @@ RosMapYaml parse_ros_map_yaml(std::string_view text, std::string_view source) {
     } else if (e.key == "mode") {
       const std::string& v = single(e, source);
       if (v == "trinary") {
-        y.mode = RosMapMode::kTrinary;
+        y.mode = RosMapMode::Trinary;
       } else if (v == "scale") {
-        y.mode = RosMapMode::kScale;
+        y.mode = RosMapMode::Scale;
       } else if (v == "raw") {
-        y.mode = RosMapMode::kRaw;
+        y.mode = RosMapMode::Raw;
       } else {
         fail(source, e.line, e.key, fmt::format("expected trinary, scale or raw, found '{}'", v));
       }
@@ -301,7 +301,7 @@ std::string format_ros_map_yaml(const RosMapYaml& y) {
                               y.origin[2] == 0 ? std::string("0.0") : number_text(y.origin[2]),
                               y.negate ? 1 : 0);
   s += fmt::format("occupied_thresh: {}\nfree_thresh: {}\n", y.occupied_thresh, y.free_thresh);
-  if (y.mode != RosMapMode::kTrinary) s += fmt::format("mode: {}\n", to_string(y.mode));
+  if (y.mode != RosMapMode::Trinary) s += fmt::format("mode: {}\n", to_string(y.mode));
   return s;
 }
 

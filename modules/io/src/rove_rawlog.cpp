@@ -25,20 +25,20 @@ std::uint8_t layout_byte(RawlogLayout layout) { return static_cast<std::uint8_t>
 
 bool layout_allows(RawlogLayout layout, bool is_observation) {
   switch (layout) {
-    case RawlogLayout::kActionsSensoryFrames: return !is_observation;
-    case RawlogLayout::kObservations: return is_observation;
-    case RawlogLayout::kMixed: return true;
-    case RawlogLayout::kEmpty: return false;
+    case RawlogLayout::ActionsSensoryFrames: return !is_observation;
+    case RawlogLayout::Observations: return is_observation;
+    case RawlogLayout::Mixed: return true;
+    case RawlogLayout::Empty: return false;
   }
   return false;
 }
 
 const char* layout_name(RawlogLayout layout) {
   switch (layout) {
-    case RawlogLayout::kActionsSensoryFrames: return "#1 (action collections + sensory frames)";
-    case RawlogLayout::kObservations: return "#2 (observations)";
-    case RawlogLayout::kMixed: return "mixed";
-    case RawlogLayout::kEmpty: return "empty";
+    case RawlogLayout::ActionsSensoryFrames: return "#1 (action collections + sensory frames)";
+    case RawlogLayout::Observations: return "#2 (observations)";
+    case RawlogLayout::Mixed: return "mixed";
+    case RawlogLayout::Empty: return "empty";
   }
   return "?";
 }
@@ -135,7 +135,7 @@ RoveRawlogWriter::RoveRawlogWriter(const std::string& path, RoveRawlogWriterOpti
     : options_(std::move(options)) {
   ROVE_CHECK_MSG(options_.gzip_level >= 1 && options_.gzip_level <= 9,
                  "gzip_level must be in 1..9, got {}", options_.gzip_level);
-  ROVE_CHECK_MSG(options_.layout != RawlogLayout::kEmpty,
+  ROVE_CHECK_MSG(options_.layout != RawlogLayout::Empty,
                  "a rove rawlog is written with layout #1, #2 or mixed");
   if (options_.gzip) {
     stream_ = std::make_unique<GzipFileOutStream>(path, options_.gzip_level);
@@ -150,7 +150,7 @@ RoveRawlogWriter::RoveRawlogWriter(std::unique_ptr<OutStream> stream,
                                    RoveRawlogWriterOptions options)
     : options_(std::move(options)), stream_(std::move(stream)) {
   ROVE_CHECK_MSG(stream_ != nullptr, "RoveRawlogWriter needs a stream");
-  ROVE_CHECK_MSG(options_.layout != RawlogLayout::kEmpty,
+  ROVE_CHECK_MSG(options_.layout != RawlogLayout::Empty,
                  "a rove rawlog is written with layout #1, #2 or mixed");
   archive_ = std::make_unique<OutArchive>(*stream_);
   write_header();
@@ -376,16 +376,16 @@ RawlogLayout layout_of(const std::vector<RawlogEntry>& entries) {
       frames = true;
     }
   }
-  if (frames && observations) return RawlogLayout::kMixed;
-  if (frames) return RawlogLayout::kActionsSensoryFrames;
-  if (observations) return RawlogLayout::kObservations;
-  return RawlogLayout::kEmpty;
+  if (frames && observations) return RawlogLayout::Mixed;
+  if (frames) return RawlogLayout::ActionsSensoryFrames;
+  if (observations) return RawlogLayout::Observations;
+  return RawlogLayout::Empty;
 }
 
 void save_rove_rawlog(const std::string& path, const std::vector<RawlogEntry>& entries,
                       RoveRawlogWriterOptions options) {
   const RawlogLayout layout = layout_of(entries);
-  if (layout != RawlogLayout::kEmpty) options.layout = layout;
+  if (layout != RawlogLayout::Empty) options.layout = layout;
   RoveRawlogWriter writer(path, std::move(options));
   for (const auto& e : entries) writer.write(e);
   writer.close();

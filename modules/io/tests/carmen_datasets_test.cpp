@@ -95,7 +95,7 @@ void check_dataset(const char* name, std::size_t readme_scans, std::size_t expec
   std::size_t scans = 0, odoms = 0;
   bool first_scan = true, first_odom = true;
   while (reader.next(r)) {
-    if (r.type == CarmenMessage::kFlaser) {
+    if (r.type == CarmenMessage::Flaser) {
       ASSERT_NE(r.scan, nullptr);
       ASSERT_EQ(r.scan->size(), expected_rays) << "line " << r.line;
       ++scans;
@@ -120,7 +120,7 @@ void check_dataset(const char* name, std::size_t readme_scans, std::size_t expec
         EXPECT_DOUBLE_EQ(r.logger_timestamp, v[p + 8]);
         EXPECT_NEAR(r.timestamp.to_seconds(), v[p + 8], 1e-9);
       }
-    } else if (r.type == CarmenMessage::kOdom) {
+    } else if (r.type == CarmenMessage::Odom) {
       ASSERT_NE(r.odometry, nullptr);
       ++odoms;
       if (first_odom) {
@@ -163,9 +163,9 @@ TEST(CarmenDatasets, IntelFirstScanMatchesTheText) {
   //   0.000000 0.000000 -0.002458 976052857.337530 nohost 0.000246 (line 13)
   CarmenLogReader reader = CarmenLogReader::open(dataset("intel.clf.bz2"));
   CarmenRecord r;
-  while (reader.next(r) && r.type != CarmenMessage::kFlaser) {
+  while (reader.next(r) && r.type != CarmenMessage::Flaser) {
   }
-  ASSERT_EQ(r.type, CarmenMessage::kFlaser);
+  ASSERT_EQ(r.type, CarmenMessage::Flaser);
   EXPECT_EQ(r.line, 13u);
   ASSERT_EQ(r.scan->size(), 180u);
   EXPECT_EQ(r.scan->ranges[0], 1.07f);
@@ -183,9 +183,9 @@ TEST(CarmenDatasets, Fr079FirstScanMatchesTheText) {
   //   -3.034287 8.291214 -3.120965 1211.520329 magnum 0.015885 (line 199)
   CarmenLogReader reader = CarmenLogReader::open(dataset("fr079.clf.bz2"));
   CarmenRecord r;
-  while (reader.next(r) && r.type != CarmenMessage::kFlaser) {
+  while (reader.next(r) && r.type != CarmenMessage::Flaser) {
   }
-  ASSERT_EQ(r.type, CarmenMessage::kFlaser);
+  ASSERT_EQ(r.type, CarmenMessage::Flaser);
   EXPECT_EQ(r.line, 199u);
   ASSERT_EQ(r.scan->size(), 360u);
   EXPECT_EQ(r.scan->ranges[0], 1.67f);

@@ -52,7 +52,7 @@ void check_log(CarmenLogReader& reader) {
   ASSERT_EQ(recs.size(), 6u);
 
   const CarmenRecord& fl = recs[0];
-  EXPECT_EQ(fl.type, CarmenMessage::kFlaser);
+  EXPECT_EQ(fl.type, CarmenMessage::Flaser);
   EXPECT_EQ(fl.line, 5u);
   ASSERT_NE(fl.scan, nullptr);
   EXPECT_EQ(fl.odometry, nullptr);
@@ -79,7 +79,7 @@ void check_log(CarmenLogReader& reader) {
   EXPECT_EQ(fl.scan->timestamp, fl.timestamp);
 
   const CarmenRecord& rl = recs[1];
-  EXPECT_EQ(rl.type, CarmenMessage::kRlaser);
+  EXPECT_EQ(rl.type, CarmenMessage::Rlaser);
   EXPECT_EQ(rl.line, 6u);
   ASSERT_NE(rl.scan, nullptr);
   EXPECT_EQ(rl.scan->sensor_label, "LASER_REAR");
@@ -88,7 +88,7 @@ void check_log(CarmenLogReader& reader) {
   EXPECT_EQ(rl.timestamp.ns, 1500000000);
 
   const CarmenRecord& od = recs[2];
-  EXPECT_EQ(od.type, CarmenMessage::kOdom);
+  EXPECT_EQ(od.type, CarmenMessage::Odom);
   EXPECT_EQ(od.line, 7u);
   ASSERT_NE(od.odometry, nullptr);
   EXPECT_EQ(od.scan, nullptr);
@@ -103,7 +103,7 @@ void check_log(CarmenLogReader& reader) {
   EXPECT_EQ(od.odometry->timestamp.ns, 2000000000);
 
   const CarmenRecord& rb = recs[3];
-  EXPECT_EQ(rb.type, CarmenMessage::kRobotLaser1);
+  EXPECT_EQ(rb.type, CarmenMessage::RobotLaser1);
   EXPECT_EQ(rb.line, 9u);
   ASSERT_NE(rb.scan, nullptr);
   EXPECT_EQ(rb.scan->ranges, (std::vector<float>{1.0f, 2.0f, 3.0f}));
@@ -125,7 +125,7 @@ void check_log(CarmenLogReader& reader) {
   EXPECT_EQ(rb.timestamp.ns, 3000000000);
 
   const CarmenRecord& tp = recs[4];
-  EXPECT_EQ(tp.type, CarmenMessage::kTruePos);
+  EXPECT_EQ(tp.type, CarmenMessage::TruePos);
   EXPECT_EQ(tp.line, 10u);
   EXPECT_EQ(tp.scan, nullptr);
   EXPECT_EQ(tp.odometry, nullptr);
@@ -137,7 +137,7 @@ void check_log(CarmenLogReader& reader) {
   EXPECT_EQ(tp.ipc_hostname, "sim");
   EXPECT_EQ(tp.timestamp.ns, 4000000000);
 
-  EXPECT_EQ(recs[5].type, CarmenMessage::kOdom);
+  EXPECT_EQ(recs[5].type, CarmenMessage::Odom);
   EXPECT_EQ(recs[5].line, 12u);
 
   const CarmenLogStats& s = reader.stats();
@@ -349,11 +349,11 @@ TEST(CarmenLog, GarbageAfterBzip2StreamIsParseError) {
 }
 
 TEST(CarmenLog, MessageNames) {
-  EXPECT_EQ(to_string(CarmenMessage::kFlaser), "FLASER");
-  EXPECT_EQ(to_string(CarmenMessage::kRlaser), "RLASER");
-  EXPECT_EQ(to_string(CarmenMessage::kOdom), "ODOM");
-  EXPECT_EQ(to_string(CarmenMessage::kRobotLaser1), "ROBOTLASER1");
-  EXPECT_EQ(to_string(CarmenMessage::kTruePos), "TRUEPOS");
+  EXPECT_EQ(to_string(CarmenMessage::Flaser), "FLASER");
+  EXPECT_EQ(to_string(CarmenMessage::Rlaser), "RLASER");
+  EXPECT_EQ(to_string(CarmenMessage::Odom), "ODOM");
+  EXPECT_EQ(to_string(CarmenMessage::RobotLaser1), "ROBOTLASER1");
+  EXPECT_EQ(to_string(CarmenMessage::TruePos), "TRUEPOS");
 }
 
 }  // namespace

@@ -66,10 +66,10 @@ OccupancyGrid random_grid(unsigned seed) {
   return g;
 }
 
-enum class Cls { kFree, kOccupied, kUnknown };
+enum class Cls { Free, Occupied, Unknown };
 Cls class_of(float p_free, double occ_t = 0.65, double free_t = 0.196) {
   const double occ = 1.0 - static_cast<double>(p_free);
-  return occ > occ_t ? Cls::kOccupied : occ < free_t ? Cls::kFree : Cls::kUnknown;
+  return occ > occ_t ? Cls::Occupied : occ < free_t ? Cls::Free : Cls::Unknown;
 }
 
 // Sets bytes [at, at+4) to big-endian v and fixes the CRC of the chunk
@@ -233,7 +233,7 @@ TEST(RosMapYaml, ParsesMapServerFile) {
   EXPECT_TRUE(y.negate);
   EXPECT_EQ(y.occupied_thresh, 0.7);
   EXPECT_EQ(y.free_thresh, 0.2);
-  EXPECT_EQ(y.mode, RosMapMode::kScale);
+  EXPECT_EQ(y.mode, RosMapMode::Scale);
   EXPECT_EQ(y.unknown_keys, std::vector<std::string>{"frame_id"});
   // Format then parse gives the same values.
   const RosMapYaml again = parse_ros_map_yaml(format_ros_map_yaml(y), "again.yaml");
@@ -419,11 +419,11 @@ TEST_F(HandWrittenRosMap, UnknownKeysAreReportedAndYawRejected) {
 TEST(GridImage, TrinaryPngAndPgmRoundTripKeepClassesAndGeometry) {
   const OccupancyGrid g = random_grid(11);
   const fs::path dir = temp_dir("trinary");
-  for (ImageFormat f : {ImageFormat::kPng, ImageFormat::kPgm}) {
+  for (ImageFormat f : {ImageFormat::Png, ImageFormat::Pgm}) {
     GridImageOptions o;
     o.format = f;
     const RosMapFiles files = save_ros_map((dir / "map").string(), g, o);
-    EXPECT_EQ(files.image, (dir / (f == ImageFormat::kPng ? "map.png" : "map.pgm")).string());
+    EXPECT_EQ(files.image, (dir / (f == ImageFormat::Png ? "map.png" : "map.pgm")).string());
     const RosMap m = load_ros_map(files.yaml);
     const OccupancyGrid& h = m.grid;
     ASSERT_EQ(h.size_x(), g.size_x());
@@ -450,7 +450,7 @@ TEST(GridImage, TrinaryPngAndPgmRoundTripKeepClassesAndGeometry) {
 TEST(GridImage, ProbabilityImageIsRoundedFreeProbability) {
   const OccupancyGrid g = random_grid(12);
   GridImageOptions o;
-  o.mode = RosMapMode::kScale;
+  o.mode = RosMapMode::Scale;
   const GrayImage img = grid_to_image(g, o);
   for (std::uint32_t cy = 0; cy < g.size_y(); ++cy) {
     for (std::uint32_t cx = 0; cx < g.size_x(); ++cx) {
@@ -466,7 +466,7 @@ TEST(GridImage, ProbabilityImageIsRoundedFreeProbability) {
   for (std::uint32_t cy = 0; cy < g.size_y(); ++cy) {
     for (std::uint32_t cx = 0; cx < g.size_x(); ++cx) {
       const double occ = (255.0 - img.at(cx, g.size_y() - 1 - cy)) / 255.0;
-      const Cls want = occ > 0.65 ? Cls::kOccupied : occ < 0.196 ? Cls::kFree : Cls::kUnknown;
+      const Cls want = occ > 0.65 ? Cls::Occupied : occ < 0.196 ? Cls::Free : Cls::Unknown;
       ASSERT_EQ(class_of(h.free_probability(static_cast<int>(cx), static_cast<int>(cy))), want);
     }
   }
@@ -479,13 +479,13 @@ TEST(GridImage, ScaleModeImageSaysModeScaleInItsYaml) {
   const OccupancyGrid g = random_grid(21);
   const fs::path dir = temp_dir("scale");
   GridImageOptions o;
-  o.mode = RosMapMode::kScale;
+  o.mode = RosMapMode::Scale;
   const RosMapFiles files = save_ros_map((dir / "map").string(), g, o);
   std::ifstream in(files.yaml);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("mode: scale\n"), std::string::npos) << text;
   const RosMap m = load_ros_map(files.yaml);
-  EXPECT_EQ(m.yaml.mode, RosMapMode::kScale);
+  EXPECT_EQ(m.yaml.mode, RosMapMode::Scale);
   const GrayImage img = grid_to_image(g, o);
   std::size_t between = 0;
   for (std::uint32_t cy = 0; cy < g.size_y(); ++cy) {
@@ -493,9 +493,9 @@ TEST(GridImage, ScaleModeImageSaysModeScaleInItsYaml) {
       const double occ = (255.0 - img.at(cx, g.size_y() - 1 - cy)) / 255.0;
       const float back = m.grid.free_probability(static_cast<int>(cx), static_cast<int>(cy));
       if (occ > 0.65) {
-        ASSERT_EQ(class_of(back), Cls::kOccupied);
+        ASSERT_EQ(class_of(back), Cls::Occupied);
       } else if (occ < 0.196) {
-        ASSERT_EQ(class_of(back), Cls::kFree);
+        ASSERT_EQ(class_of(back), Cls::Free);
       } else {
         // map_server: an occupancy of 1 + 98·ratio percent.
         const double percent = std::floor(1 + 98 * (occ - 0.196) / (0.65 - 0.196));
@@ -509,7 +509,7 @@ TEST(GridImage, ScaleModeImageSaysModeScaleInItsYaml) {
 
 TEST(GridImage, RawModeIsNotWritten) {
   GridImageOptions o;
-  o.mode = RosMapMode::kRaw;
+  o.mode = RosMapMode::Raw;
   EXPECT_THROW(grid_to_image(random_grid(22), o), InvalidArgument);
 }
 
@@ -580,8 +580,8 @@ TEST(GridImage, MrptGridmapThroughPngAndYaml) {
     for (int cx = 0; cx < static_cast<int>(g.size_x()); ++cx) {
       const Cls a = class_of(g.free_probability(cx, cy));
       differ += a != class_of(h.free_probability(cx, cy));
-      occupied += a == Cls::kOccupied;
-      free += a == Cls::kFree;
+      occupied += a == Cls::Occupied;
+      free += a == Cls::Free;
     }
   }
   EXPECT_EQ(differ, 0u);
@@ -594,7 +594,7 @@ TEST(GridImage, MrptGridmapThroughPngAndYaml) {
 TEST(GridBinary, RoundTripIsExact) {
   const OccupancyGrid g = random_grid(13);
   const fs::path dir = temp_dir("binary");
-  for (auto c : {FileCompression::kNone, FileCompression::kGzip}) {
+  for (auto c : {FileCompression::None, FileCompression::Gzip}) {
     const std::string p = (dir / "g.rovegrid").string();
     save_grid(p, g, c);
     const OccupancyGrid h = load_grid(p);

@@ -113,7 +113,7 @@ TEST(AnyRawlogFormat, CarmenLogWithoutRecordsIsAnError_Regression) {
   const std::string file =
       tmp.write("params.clf", "# CARMEN Logfile\nPARAM robot_use_laser on nohost 0\n");
   AnyRawlogReader reader(file);
-  EXPECT_EQ(reader.format(), RawlogFormat::kCarmen);
+  EXPECT_EQ(reader.format(), RawlogFormat::Carmen);
   try {
     while (reader.next()) {
     }
@@ -134,7 +134,7 @@ TEST(AnyRawlogFormat, CarmenLogWithoutEntriesIsAnError_Regression) {
                   "ODOM 0.0 0.0 0.0 0.0 0.0 0.0 1.0 host 1.0\n"
                   "TRUEPOS 0 0 0 0 0 0 2.0 host 2.0\n");
   AnyRawlogReader reader(file);
-  EXPECT_EQ(reader.format(), RawlogFormat::kCarmen);
+  EXPECT_EQ(reader.format(), RawlogFormat::Carmen);
   try {
     while (reader.next()) {
     }
@@ -147,7 +147,7 @@ TEST(AnyRawlogFormat, CarmenLogWithoutEntriesIsAnError_Regression) {
   EXPECT_THROW(load_any_rawlog(file), ParseError);
   // In layout #2 the ODOM line is an odometry observation: one entry.
   AnyRawlogOptions o;
-  o.carmen.layout = RawlogLayout::kObservations;
+  o.carmen.layout = RawlogLayout::Observations;
   EXPECT_EQ(load_any_rawlog(file, o).entries.size(), 1u);
 }
 
@@ -159,8 +159,8 @@ TEST(AnyRawlogFormat, DevicesAndFoldersAreRefused_Regression) {
 }
 
 TEST(AnyRawlogFormat, RealLogsAreStillDetected) {
-  EXPECT_EQ(detect_rawlog_format(kCarmen), RawlogFormat::kCarmen);
-  EXPECT_EQ(detect_rawlog_format(kSena), RawlogFormat::kMrpt);
+  EXPECT_EQ(detect_rawlog_format(kCarmen), RawlogFormat::Carmen);
+  EXPECT_EQ(detect_rawlog_format(kSena), RawlogFormat::Mrpt);
 }
 
 // ------------------------------------------------------------ selections
@@ -204,7 +204,7 @@ TEST(RawlogTools, ExportOfALogWithoutScansIsAnError_Regression) {
   const std::string odom_only = tmp.write(
       "odom.clf", "ODOM 0 0 0 0 0 0 1.0 host 1.0\nODOM 1 0 0 0 0 0 2.0 host 2.0\n");
   TextExportOptions o;
-  o.read.carmen.layout = RawlogLayout::kObservations;
+  o.read.carmen.layout = RawlogLayout::Observations;
   EXPECT_THROW(export_scans_txt(odom_only, tmp.path("scans.txt"), o), SelectionError);
   EXPECT_FALSE(fs::exists(tmp.path("scans.txt")));
 }

@@ -162,7 +162,7 @@ TEST(MrptSensorObjects, RgbdFrameValues) {
   EXPECT_EQ(r.points->p_sensor.size(), 273225u);
   EXPECT_NO_THROW(r.check());
   // Every stored point lies on its pixel's ray within float precision.
-  const auto proj = r.project({RangeImageFrame::kSensor, std::nullopt});
+  const auto proj = r.project({RangeImageFrame::Sensor, std::nullopt});
   EXPECT_GT(proj.points.size(), 200000u);
 }
 

@@ -205,13 +205,13 @@ TEST(OccupancyGridMrptCompat, LikelihoodsMatchMrptForEveryMethod) {
     if (!model) model = std::make_unique<GridLikelihoodModel<std::int8_t>>(ref.grid, o);
     const double mine = model->log_likelihood(*scans[si], pose);
     SCOPED_TRACE(line);
-    if (o.method == GridLikelihoodMethod::kMeanInformation) {
+    if (o.method == GridLikelihoodMethod::MeanInformation) {
       // MRPT 2.5.8 returns −inf (its fast cell updates never count).
       EXPECT_TRUE(std::isinf(value) && value < 0);
       EXPECT_TRUE(std::isfinite(mine));
       continue;
     }
-    if (o.method == GridLikelihoodMethod::kConsensusOWA) {
+    if (o.method == GridLikelihoodMethod::ConsensusOWA) {
       // MRPT 2.5.8 returns 1e-3 for every 2D scan.
       EXPECT_EQ(value, 1e-3);
       EXPECT_TRUE(std::isfinite(mine));
@@ -274,7 +274,7 @@ namespace rove {
 namespace {
 
 // MRPT's computeEntropy on its own grids (tools/mrpt_grid_reference):
-// EntropyTable::kMrpt reproduces every number; kExact differs only by the
+// EntropyTable::Mrpt reproduces every number; kExact differs only by the
 // unknown cells (value 0) and cells at −1, which MRPT's table zeroes.
 TEST(GridEntropyMrptCompat, MatchesMrptComputeEntropyOnMrptGrids) {
   std::ifstream in(kData + "grid_entropy_reference.txt");
@@ -295,7 +295,7 @@ TEST(GridEntropyMrptCompat, MatchesMrptComputeEntropyOnMrptGrids) {
     } else {
       grid = read_ref(name + ".bin.gz").grid;
     }
-    const GridEntropy m = grid_entropy(grid, EntropyTable::kMrpt);
+    const GridEntropy m = grid_entropy(grid, EntropyTable::Mrpt);
     // Same float table, same double sums in the same order: equal to the
     // last digit printed (17 significant).
     EXPECT_DOUBLE_EQ(m.entropy, H) << name;

@@ -47,10 +47,10 @@ ParseError parse_error_of(const std::string& text) {
 }
 
 TEST(Pcd, RoundTripsEveryEncodingAndChannelSetExactly) {
-  const PointChannels sets[] = {PointChannels::kNone, PointChannels::kColor, PointChannels::kIntensity,
-                                PointChannels::kNormal,
-                                PointChannels::kColor | PointChannels::kIntensity | PointChannels::kNormal};
-  for (PcdFormat f : {PcdFormat::kAscii, PcdFormat::kBinary, PcdFormat::kBinaryCompressed}) {
+  const PointChannels sets[] = {PointChannels::None, PointChannels::Color, PointChannels::Intensity,
+                                PointChannels::Normal,
+                                PointChannels::Color | PointChannels::Intensity | PointChannels::Normal};
+  for (PcdFormat f : {PcdFormat::Ascii, PcdFormat::Binary, PcdFormat::BinaryCompressed}) {
     for (PointChannels ch : sets) {
       for (std::size_t n : {0u, 1u, 7u, 500u}) {
         const PointCloud c = sample_cloud(ch, n, static_cast<unsigned>(n) + 3);
@@ -68,7 +68,7 @@ TEST(Pcd, RoundTripsEveryEncodingAndChannelSetExactly) {
 }
 
 TEST(Pcd, WritesOrganizedLayoutAndChecksIt) {
-  const PointCloud c = sample_cloud(PointChannels::kNone, 6, 1);
+  const PointCloud c = sample_cloud(PointChannels::None, 6, 1);
   PcdWriteOptions o;
   o.width = 3;
   o.height = 2;
@@ -170,19 +170,19 @@ TEST(Pcd, LyingBinarySizesAreRefusedBeforeAllocating) {
 }
 
 TEST(Pcd, EveryTruncationOfEveryEncodingIsAParseError) {
-  const PointCloud c = sample_cloud(PointChannels::kColor | PointChannels::kNormal, 40, 9);
-  for (PcdFormat f : {PcdFormat::kAscii, PcdFormat::kBinary, PcdFormat::kBinaryCompressed}) {
+  const PointCloud c = sample_cloud(PointChannels::Color | PointChannels::Normal, 40, 9);
+  for (PcdFormat f : {PcdFormat::Ascii, PcdFormat::Binary, PcdFormat::BinaryCompressed}) {
     PcdWriteOptions o;
     o.format = f;
     const auto bytes = write_pcd_to_memory(c, o);
     // An ascii file cut inside its last line may still hold a valid (shorter)
     // number: only cuts that lose a whole line are detectable there.
     std::size_t end = bytes.size();
-    if (f == PcdFormat::kAscii) {
+    if (f == PcdFormat::Ascii) {
       end = bytes.size() - 1;
       while (bytes[end - 1] != '\n') --end;
     }
-    for (std::size_t len = 0; len < end; len += (f == PcdFormat::kAscii ? 7 : 1)) {
+    for (std::size_t len = 0; len < end; len += (f == PcdFormat::Ascii ? 7 : 1)) {
       const std::span<const std::uint8_t> prefix(bytes.data(), len);
       EXPECT_THROW(read_pcd_from_memory(prefix, "cut"), ParseError) << "format " << int(f) << " len " << len;
     }
@@ -190,9 +190,9 @@ TEST(Pcd, EveryTruncationOfEveryEncodingIsAParseError) {
 }
 
 TEST(Pcd, RandomByteCorruptionNeverCrashes) {
-  const PointCloud c = sample_cloud(PointChannels::kIntensity, 60, 4);
+  const PointCloud c = sample_cloud(PointChannels::Intensity, 60, 4);
   std::mt19937 rng(5);
-  for (PcdFormat f : {PcdFormat::kAscii, PcdFormat::kBinary, PcdFormat::kBinaryCompressed}) {
+  for (PcdFormat f : {PcdFormat::Ascii, PcdFormat::Binary, PcdFormat::BinaryCompressed}) {
     PcdWriteOptions o;
     o.format = f;
     const auto good = write_pcd_to_memory(c, o);
@@ -214,7 +214,7 @@ TEST(Pcd, MissingFileIsAnIoError) {
 TEST(Pcd, LoadsTheRealDatasets) {
   PcdHeader h;
   const PointCloud r1 = read_pcd(kData + "room_scan1.pcd", &h);
-  EXPECT_EQ(h.format, PcdFormat::kBinaryCompressed);
+  EXPECT_EQ(h.format, PcdFormat::BinaryCompressed);
   EXPECT_EQ(r1.size(), 112586u);
   // The PCL NDT tutorial reports 112,624 points for room_scan2 as well.
   EXPECT_EQ(read_pcd(kData + "room_scan2.pcd").size(), 112624u);

@@ -43,9 +43,9 @@ ParseError error_of(const std::string& text) {
 }
 
 TEST(Ply, RoundTripsEveryEncodingAndChannelSetExactly) {
-  for (PlyFormat f : {PlyFormat::kAscii, PlyFormat::kBinaryLittleEndian, PlyFormat::kBinaryBigEndian})
-    for (PointChannels ch : {PointChannels::kNone, PointChannels::kColor | PointChannels::kIntensity | PointChannels::kNormal,
-                             PointChannels::kNormal})
+  for (PlyFormat f : {PlyFormat::Ascii, PlyFormat::BinaryLittleEndian, PlyFormat::BinaryBigEndian})
+    for (PointChannels ch : {PointChannels::None, PointChannels::Color | PointChannels::Intensity | PointChannels::Normal,
+                             PointChannels::Normal})
       for (std::size_t n : {0u, 1u, 300u}) {
         const PointCloud c = sample(ch, n, static_cast<unsigned>(n));
         PlyWriteOptions o;
@@ -61,7 +61,7 @@ TEST(Ply, AsciiFltMaxReadsBack) {
   PointCloud c;
   c.push_back({-3.4028235e38f, 3.4028235e38f, 1.0f});
   PlyWriteOptions o;
-  o.format = PlyFormat::kAscii;
+  o.format = PlyFormat::Ascii;
   EXPECT_EQ(read_ply_from_memory(write_ply_to_memory(c, o), "m"), c);
   // Still rejected: values that round to infinity as float.
   EXPECT_THROW(read_ply_from_memory(bytes_of("ply\nformat ascii 1.0\nelement vertex 1\n"
@@ -124,8 +124,8 @@ TEST(Ply, ErrorsNameTheLineOffsetAndProperty) {
 }
 
 TEST(Ply, EveryTruncationOfABinaryFileIsAParseError) {
-  const PointCloud c = sample(PointChannels::kColor | PointChannels::kNormal, 30, 2);
-  for (PlyFormat f : {PlyFormat::kBinaryLittleEndian, PlyFormat::kBinaryBigEndian}) {
+  const PointCloud c = sample(PointChannels::Color | PointChannels::Normal, 30, 2);
+  for (PlyFormat f : {PlyFormat::BinaryLittleEndian, PlyFormat::BinaryBigEndian}) {
     PlyWriteOptions o;
     o.format = f;
     const auto bytes = write_ply_to_memory(c, o);

@@ -74,7 +74,7 @@ TEST(RawlogReader, SenaCountsAsRawlogEditInfo) {
   // 225 frames (the first before any action) and 224 action collections.
   const Rawlog log = load_rawlog(kSena);
   ASSERT_EQ(log.entries.size(), 449u);
-  EXPECT_EQ(log.layout, RawlogLayout::kActionsSensoryFrames);
+  EXPECT_EQ(log.layout, RawlogLayout::ActionsSensoryFrames);
   std::size_t frames = 0, actions = 0;
   for (std::size_t i = 0; i < log.entries.size(); ++i) {
     const auto& e = log.entries[i];
@@ -244,7 +244,7 @@ TEST(RawlogReader, LocalizationDemoEqualsLibmrpt) {
   ASSERT_TRUE(std::filesystem::exists(path)) << "dataset missing: " << path;
   const Rawlog log = load_rawlog(path);
   ASSERT_EQ(log.entries.size(), 74u);  // 37 action collections, 37 frames
-  EXPECT_EQ(log.layout, RawlogLayout::kActionsSensoryFrames);
+  EXPECT_EQ(log.layout, RawlogLayout::ActionsSensoryFrames);
   expect_equal_to_libmrpt(log, "mrpt_localization_demo_rawlog_reference.txt", 8);
 }
 
@@ -259,14 +259,14 @@ Rawlog load_shared_rawlog(const std::string& name) {
 TEST(RawlogReader, KfSlamDemoEqualsLibmrpt) {
   const Rawlog log = load_shared_rawlog("kf-slam_demo.rawlog");
   ASSERT_EQ(log.entries.size(), 500u);  // 250 action collections, 250 frames
-  EXPECT_EQ(log.layout, RawlogLayout::kActionsSensoryFrames);
+  EXPECT_EQ(log.layout, RawlogLayout::ActionsSensoryFrames);
   expect_equal_to_libmrpt(log, "mrpt_kf_slam_demo_rawlog_reference.txt", 8);
 }
 
 TEST(RawlogReader, RoSlamDemoEqualsLibmrpt) {
   const Rawlog log = load_shared_rawlog("RO-SLAM_demo.rawlog");
   ASSERT_EQ(log.entries.size(), 200u);  // 100 action collections, 100 frames
-  EXPECT_EQ(log.layout, RawlogLayout::kActionsSensoryFrames);
+  EXPECT_EQ(log.layout, RawlogLayout::ActionsSensoryFrames);
   expect_equal_to_libmrpt(log, "mrpt_ro_slam_demo_rawlog_reference.txt", 8);
 }
 

@@ -126,7 +126,7 @@ TEST(CarmenToRawlog, Layout1FramesAndOdometryIncrements) {
 
 TEST(CarmenToRawlog, Layout2AsCarmen2rawlogPlusOdomLines) {
   CarmenToRawlogOptions o;
-  o.layout = RawlogLayout::kObservations;
+  o.layout = RawlogLayout::Observations;
   CarmenRawlogSource source = CarmenRawlogSource::open(kCarmen, o);
   std::size_t odometry = 0, scans = 0;
   while (auto e = source.next()) {
@@ -150,7 +150,7 @@ TEST(CarmenToRawlog, Layout2AsCarmen2rawlogPlusOdomLines) {
 TEST(CarmenToRawlog, ScansAndOdometryMatchMrptCarmen2rawlog) {
   const AnyRawlog mrpt = load_any_rawlog(kMrptIntel);
   CarmenToRawlogOptions o;
-  o.layout = RawlogLayout::kObservations;
+  o.layout = RawlogLayout::Observations;
   o.odom_lines = false;  // carmen2rawlog ignores ODOM lines
   AnyRawlogOptions ro;
   ro.carmen = o;
@@ -275,14 +275,14 @@ TEST(RawlogTools, ConvertBetweenLayoutsIsConsistent) {
   const std::string l2 = temp_path("l2.rawlog");
   const std::string l1 = temp_path("l1.rawlog");
   ConvertOptions o2;
-  o2.layout = RawlogLayout::kObservations;
+  o2.layout = RawlogLayout::Observations;
   o2.read.carmen.odom_lines = false;
   const RawlogJobResult r2 = convert_rawlog(kCarmen, l2, o2);
   EXPECT_EQ(r2.entries_out, 48u);
   EXPECT_EQ(r2.kept.at("RangeScan2D"), 24u);
   EXPECT_EQ(r2.dropped.at("CARMEN ODOM line (odometry taken from laser lines)"), 45u);
   ConvertOptions o1;
-  o1.layout = RawlogLayout::kActionsSensoryFrames;
+  o1.layout = RawlogLayout::ActionsSensoryFrames;
   const RawlogJobResult r1 = convert_rawlog(l2, l1, o1);
   EXPECT_EQ(r1.entries_out, 47u);
   EXPECT_EQ(r1.dropped.at("OdometryObservation (-> actions)"), 24u);
@@ -305,7 +305,7 @@ TEST(RawlogTools, ConvertBetweenLayoutsIsConsistent) {
   // And back: #1 → #2 turns actions into absolute odometry.
   const std::string back = temp_path("back.rawlog");
   ConvertOptions ob;
-  ob.layout = RawlogLayout::kObservations;
+  ob.layout = RawlogLayout::Observations;
   const RawlogJobResult rb = convert_rawlog(l1, back, ob);
   EXPECT_EQ(rb.kept.at("OdometryObservation"), 23u);
   EXPECT_EQ(rb.kept.at("RangeScan2D"), 24u);

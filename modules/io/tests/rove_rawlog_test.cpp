@@ -70,7 +70,7 @@ std::vector<std::shared_ptr<const Observation>> sample_observations() {
   rgbd->depth_camera = {4, 2, 5.0, 6.0, 1.5, 0.5, {0.1, -0.01, 0.001, 0.002, 0.0}};
   rgbd->depth = DepthImage::zeros_u16(4, 2, 5000.0);
   std::get<std::vector<std::uint16_t>>(rgbd->depth.values) = {0, 1, 2, 3, 4, 5, 6, 65535};
-  rgbd->intensity = Image::zeros(4, 2, 3, PixelType::kU8);
+  rgbd->intensity = Image::zeros(4, 2, 3, PixelType::U8);
   rgbd->intensity->data[5] = 200;
   out.push_back(rgbd);
 
@@ -84,7 +84,7 @@ std::vector<std::shared_ptr<const Observation>> sample_observations() {
   auto image = std::make_shared<ImageObservation>();
   stamp(*image, "CAMERA", 1262304000423456700);
   image->camera = {3, 2, 300.0, 300.0, 1.0, 0.5, {}};
-  image->image = Image::zeros(3, 2, 1, PixelType::kU16);
+  image->image = Image::zeros(3, 2, 1, PixelType::U16);
   image->image.data[3] = 0xAB;
   out.push_back(image);
 
@@ -113,7 +113,7 @@ std::vector<std::shared_ptr<const Observation>> sample_observations() {
   stamp(*gps, "GPS", 1262304000823456700);
   gps->latitude_deg = 36.8389;
   gps->longitude_deg = -2.4597;
-  gps->fix_quality = GpsFixQuality::kRtkFixed;
+  gps->fix_quality = GpsFixQuality::RtkFixed;
   gps->satellites = 11;
   gps->enu_position = Eigen::Vector3d(10.0, -3.0, 0.5);
   out.push_back(gps);
@@ -208,14 +208,14 @@ TEST(RoveRawlog, RoundTripLayout1PlainAndGzip) {
     o.metadata = {{"source", "unit test"}, {"tool", "rove"}};
     save_rove_rawlog(path, entries, o);
     EXPECT_EQ(is_gzip_file(path), gzip);
-    EXPECT_EQ(detect_rawlog_format(path), RawlogFormat::kRove);
+    EXPECT_EQ(detect_rawlog_format(path), RawlogFormat::Rove);
     const RoveRawlog back = load_rove_rawlog(path);
-    EXPECT_EQ(back.layout, RawlogLayout::kActionsSensoryFrames);
+    EXPECT_EQ(back.layout, RawlogLayout::ActionsSensoryFrames);
     EXPECT_EQ(back.metadata.at("source"), "unit test");
     expect_same_entries(entries, back.entries);
     // The same through the format-detecting reader.
     const AnyRawlog any = load_any_rawlog(path);
-    EXPECT_EQ(any.format, RawlogFormat::kRove);
+    EXPECT_EQ(any.format, RawlogFormat::Rove);
     expect_same_entries(entries, any.entries);
     std::filesystem::remove(path);
   }
@@ -224,7 +224,7 @@ TEST(RoveRawlog, RoundTripLayout1PlainAndGzip) {
 TEST(RoveRawlog, RoundTripLayout2EveryObservationType) {
   std::vector<RawlogEntry> entries;
   for (const auto& o : sample_observations()) entries.emplace_back(o);
-  const auto back = read_from_memory(write_to_memory(entries, RawlogLayout::kObservations));
+  const auto back = read_from_memory(write_to_memory(entries, RawlogLayout::Observations));
   expect_same_entries(entries, back);
 }
 
@@ -250,25 +250,25 @@ TEST(RoveRawlog, EveryRegisteredClassRoundTrips) {
   EXPECT_GE(observations.size(), 8u);
   EXPECT_GE(frames.size(), 1u);
   expect_same_entries(observations,
-                      read_from_memory(write_to_memory(observations, RawlogLayout::kObservations)));
+                      read_from_memory(write_to_memory(observations, RawlogLayout::Observations)));
   expect_same_entries(frames,
-                      read_from_memory(write_to_memory(frames, RawlogLayout::kActionsSensoryFrames)));
+                      read_from_memory(write_to_memory(frames, RawlogLayout::ActionsSensoryFrames)));
 }
 
 TEST(RoveRawlog, WriterRejectsEntriesOutsideItsLayout) {
   RoveRawlogWriterOptions o;
-  o.layout = RawlogLayout::kActionsSensoryFrames;
+  o.layout = RawlogLayout::ActionsSensoryFrames;
   RoveRawlogWriter w(std::make_unique<MemoryOutStream>(), o);
   EXPECT_THROW(w.write(*sample_observations()[0]), InvalidArgument);
-  o.layout = RawlogLayout::kObservations;
+  o.layout = RawlogLayout::Observations;
   RoveRawlogWriter w2(std::make_unique<MemoryOutStream>(), o);
   EXPECT_THROW(w2.write(SensoryFrame{}), InvalidArgument);
-  o.layout = RawlogLayout::kEmpty;
+  o.layout = RawlogLayout::Empty;
   EXPECT_THROW(RoveRawlogWriter(std::make_unique<MemoryOutStream>(), o), InvalidArgument);
 }
 
 TEST(RoveRawlog, EmptyLogRoundTrips) {
-  const auto bytes = write_to_memory({}, RawlogLayout::kObservations);
+  const auto bytes = write_to_memory({}, RawlogLayout::Observations);
   EXPECT_EQ(bytes.size(), 8u + 2u + 1u + 4u + 16u);
   EXPECT_TRUE(read_from_memory(bytes).empty());
 }
@@ -289,10 +289,10 @@ TEST(RoveRawlog, FrozenVersion1FileStaysReadable) {
   ASSERT_TRUE(std::filesystem::exists(kFrozen)) << kFrozen;
   const RoveRawlog back = load_rove_rawlog(kFrozen);
   EXPECT_EQ(back.metadata, metadata);
-  EXPECT_EQ(back.layout, RawlogLayout::kActionsSensoryFrames);
+  EXPECT_EQ(back.layout, RawlogLayout::ActionsSensoryFrames);
   expect_same_entries(entries, back.entries);
   EXPECT_EQ(read_bytes(kFrozen),
-            write_to_memory(entries, RawlogLayout::kActionsSensoryFrames, metadata));
+            write_to_memory(entries, RawlogLayout::ActionsSensoryFrames, metadata));
 }
 
 ParseError parse_error_of(const std::vector<std::byte>& bytes,
@@ -307,7 +307,7 @@ ParseError parse_error_of(const std::vector<std::byte>& bytes,
 }
 
 TEST(RoveRawlog, EveryTruncationIsAParseErrorWithFileAndOffset) {
-  const auto bytes = write_to_memory(sample_layout1(), RawlogLayout::kActionsSensoryFrames);
+  const auto bytes = write_to_memory(sample_layout1(), RawlogLayout::ActionsSensoryFrames);
   for (std::size_t cut = 0; cut < bytes.size(); cut += 1 + bytes.size() / 700) {
     const std::vector<std::byte> part(bytes.begin(), bytes.begin() + static_cast<long>(cut));
     const ParseError e = parse_error_of(part);
@@ -320,7 +320,7 @@ TEST(RoveRawlog, EveryTruncationIsAParseErrorWithFileAndOffset) {
 TEST(RoveRawlog, CorruptBytesNeverCrash) {
   // Flip every byte in turn: the reader either reads something (a flipped
   // float is still a float) or throws ParseError; nothing else.
-  const auto bytes = write_to_memory(sample_layout1(), RawlogLayout::kActionsSensoryFrames);
+  const auto bytes = write_to_memory(sample_layout1(), RawlogLayout::ActionsSensoryFrames);
   for (std::size_t i = 0; i < bytes.size(); i += 1 + bytes.size() / 700) {
     auto bad = bytes;
     bad[i] = static_cast<std::byte>(std::to_integer<unsigned>(bad[i]) ^ 0xA5u);
@@ -336,7 +336,7 @@ constexpr std::size_t kLayoutAt = 10;
 constexpr std::size_t kFirstEntryAt = 15;  // no metadata
 
 TEST(RoveRawlog, MalformedHeadersNameTheField) {
-  auto bytes = write_to_memory(sample_layout1(), RawlogLayout::kActionsSensoryFrames);
+  auto bytes = write_to_memory(sample_layout1(), RawlogLayout::ActionsSensoryFrames);
   auto bad = bytes;
   bad[0] = std::byte{'X'};
   EXPECT_EQ(parse_error_of(bad).location().field, "magic");
@@ -353,7 +353,7 @@ TEST(RoveRawlog, MalformedHeadersNameTheField) {
 }
 
 TEST(RoveRawlog, HostileEntryLengthIsRejectedBeforeAllocating) {
-  auto bytes = write_to_memory(sample_layout1(), RawlogLayout::kActionsSensoryFrames);
+  auto bytes = write_to_memory(sample_layout1(), RawlogLayout::ActionsSensoryFrames);
   for (int i = 0; i < 8; ++i) bytes[kFirstEntryAt + i] = std::byte{0xff};
   const ParseError e = parse_error_of(bytes);
   EXPECT_EQ(e.location().field, "entry length");
@@ -361,7 +361,7 @@ TEST(RoveRawlog, HostileEntryLengthIsRejectedBeforeAllocating) {
 }
 
 TEST(RoveRawlog, EntryLengthDisagreeingWithItsObjectIsAParseError) {
-  auto bytes = write_to_memory(sample_layout1(), RawlogLayout::kActionsSensoryFrames);
+  auto bytes = write_to_memory(sample_layout1(), RawlogLayout::ActionsSensoryFrames);
   // One byte more than the record: the object ends early.
   bytes[kFirstEntryAt] = static_cast<std::byte>(std::to_integer<unsigned>(bytes[kFirstEntryAt]) + 1);
   const ParseError e = parse_error_of(bytes);
@@ -372,7 +372,7 @@ TEST(RoveRawlog, UnknownClassIsNamedOrSkipped) {
   // A record of a class this build does not know, written by hand.
   std::vector<RawlogEntry> entries;
   entries.emplace_back(sample_observations()[2]);
-  auto bytes = write_to_memory(entries, RawlogLayout::kObservations);
+  auto bytes = write_to_memory(entries, RawlogLayout::Observations);
   const std::string name = "FutureSensor";
   std::vector<std::byte> record;
   auto put = [&record](std::uint64_t v, int n) {
@@ -403,7 +403,7 @@ TEST(RoveRawlog, UnknownClassIsNamedOrSkipped) {
 }
 
 TEST(RoveRawlog, EndRecordIsChecked) {
-  const auto bytes = write_to_memory(sample_layout1(), RawlogLayout::kActionsSensoryFrames);
+  const auto bytes = write_to_memory(sample_layout1(), RawlogLayout::ActionsSensoryFrames);
   auto bad = bytes;
   bad[bad.size() - 8] = std::byte{9};
   EXPECT_EQ(parse_error_of(bad).location().field, "entry count");
@@ -416,7 +416,7 @@ TEST(RoveRawlog, EndRecordIsChecked) {
 }
 
 TEST(RoveRawlog, EntryOutsideTheDeclaredLayoutIsAParseError) {
-  auto bytes = write_to_memory(sample_layout1(), RawlogLayout::kActionsSensoryFrames);
+  auto bytes = write_to_memory(sample_layout1(), RawlogLayout::ActionsSensoryFrames);
   bytes[kLayoutAt] = std::byte{2};  // claims observations only
   const ParseError e = parse_error_of(bytes);
   EXPECT_EQ(e.location().field, "SensoryFrame");
@@ -443,22 +443,22 @@ TEST(RoveRawlog, MrptRawlogConvertsWithoutLoss) {
   // Every entry of the bundled MRPT rawlog survives rove's format unchanged.
   const std::string mrpt = std::string(ROVE_SOURCE_DIR) +
                            "/data/mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog";
-  EXPECT_EQ(detect_rawlog_format(mrpt), RawlogFormat::kMrpt);
+  EXPECT_EQ(detect_rawlog_format(mrpt), RawlogFormat::Mrpt);
   const Rawlog in = load_rawlog(mrpt);
   ASSERT_EQ(in.entries.size(), 449u);
   const std::string path = temp_path("sena.rawlog");
   save_rove_rawlog(path, in.entries);
   const RoveRawlog back = load_rove_rawlog(path);
-  EXPECT_EQ(back.layout, RawlogLayout::kActionsSensoryFrames);
+  EXPECT_EQ(back.layout, RawlogLayout::ActionsSensoryFrames);
   expect_same_entries(in.entries, back.entries);
   std::filesystem::remove(path);
 }
 
 TEST(RoveRawlog, FormatDetection) {
-  EXPECT_EQ(detect_rawlog_format(kData + "carmen_intel_head.clf"), RawlogFormat::kCarmen);
+  EXPECT_EQ(detect_rawlog_format(kData + "carmen_intel_head.clf"), RawlogFormat::Carmen);
   EXPECT_EQ(detect_rawlog_format(kData + "mrpt_carmen2rawlog_intel_head.rawlog"),
-            RawlogFormat::kMrpt);
-  EXPECT_EQ(detect_rawlog_format(kFrozen), RawlogFormat::kRove);
+            RawlogFormat::Mrpt);
+  EXPECT_EQ(detect_rawlog_format(kFrozen), RawlogFormat::Rove);
   const std::string empty = temp_path("empty");
   { std::ofstream f(empty); }
   try {

@@ -97,17 +97,17 @@ double max_axis_std(const Eigen::Matrix3d& C) {
 
 std::string_view to_string(BeaconPdfKind k) noexcept {
   switch (k) {
-    case BeaconPdfKind::kMonteCarlo: return "montecarlo";
-    case BeaconPdfKind::kGaussian: return "gaussian";
-    case BeaconPdfKind::kSumOfGaussians: return "sog";
+    case BeaconPdfKind::MonteCarlo: return "montecarlo";
+    case BeaconPdfKind::Gaussian: return "gaussian";
+    case BeaconPdfKind::SumOfGaussians: return "sog";
   }
   return "unknown";
 }
 
 PointGaussian3 Beacon::moments() const {
   switch (kind) {
-    case BeaconPdfKind::kGaussian: return gaussian;
-    case BeaconPdfKind::kMonteCarlo: {
+    case BeaconPdfKind::Gaussian: return gaussian;
+    case BeaconPdfKind::MonteCarlo: {
       std::vector<Eigen::Vector3d> m;
       std::vector<double> w;
       m.reserve(samples.size());
@@ -118,7 +118,7 @@ PointGaussian3 Beacon::moments() const {
       }
       return moments_of(m, {}, std::move(w));
     }
-    case BeaconPdfKind::kSumOfGaussians: {
+    case BeaconPdfKind::SumOfGaussians: {
       std::vector<Eigen::Vector3d> m;
       std::vector<const Eigen::Matrix3d*> c;
       std::vector<double> w;
@@ -226,9 +226,9 @@ Beacon* BeaconMap::find_mutable(std::int32_t id) noexcept {
 
 void BeaconMap::add(Beacon beacon) {
   switch (beacon.kind) {
-    case BeaconPdfKind::kMonteCarlo: ROVE_CHECK(!beacon.samples.empty()); break;
-    case BeaconPdfKind::kSumOfGaussians: ROVE_CHECK(!beacon.modes.empty()); break;
-    case BeaconPdfKind::kGaussian:
+    case BeaconPdfKind::MonteCarlo: ROVE_CHECK(!beacon.samples.empty()); break;
+    case BeaconPdfKind::SumOfGaussians: ROVE_CHECK(!beacon.modes.empty()); break;
+    case BeaconPdfKind::Gaussian:
       ROVE_CHECK_FINITE(beacon.gaussian.mean);
       ROVE_CHECK_FINITE(beacon.gaussian.covariance);
       break;
@@ -263,7 +263,7 @@ void BeaconMap::insert_new(std::int32_t id, double range, const Eigen::Vector3d&
   Beacon b;
   b.id = id;
   if (insert_options.insert_as_monte_carlo) {
-    b.kind = BeaconPdfKind::kMonteCarlo;
+    b.kind = BeaconPdfKind::MonteCarlo;
     const auto n = std::max<std::size_t>(
         1, static_cast<std::size_t>(std::llround(insert_options.mc_samples_per_meter * range)));
     const double min_el = insert_options.min_elevation_deg * kDegToRad;
@@ -281,7 +281,7 @@ void BeaconMap::insert_new(std::int32_t id, double range, const Eigen::Vector3d&
       s.log_weight = 0.0;
     }
   } else {
-    b.kind = BeaconPdfKind::kSumOfGaussians;
+    b.kind = BeaconPdfKind::SumOfGaussians;
     b.modes = beacon_ring_modes(range, sensor, insert_options, likelihood_options);
   }
   beacons_.push_back(std::move(b));
@@ -291,7 +291,7 @@ void BeaconMap::fuse(Beacon& b, double range, const Eigen::Vector3d& sensor) {
   const double sigma = likelihood_options.range_std;
   const double var_r = sigma * sigma;
   switch (b.kind) {
-    case BeaconPdfKind::kMonteCarlo: {
+    case BeaconPdfKind::MonteCarlo: {
       double max_w = -std::numeric_limits<double>::infinity();
       for (auto& s : b.samples) {
         const double expected = (s.position - sensor).norm();
@@ -345,16 +345,16 @@ void BeaconMap::fuse(Beacon& b, double range, const Eigen::Vector3d& sensor) {
           g.covariance = Eigen::Matrix3d::Identity() * (0.01 * 0.01);
           if (is_2d(insert_options)) g.covariance(2, 2) = 0.0;
         }
-        b.kind = BeaconPdfKind::kGaussian;
+        b.kind = BeaconPdfKind::Gaussian;
         b.gaussian = g;
         b.samples.clear();
       }
       break;
     }
-    case BeaconPdfKind::kGaussian:
+    case BeaconPdfKind::Gaussian:
       ekf_range_update(b.gaussian, sensor, range, var_r, nullptr);
       break;
-    case BeaconPdfKind::kSumOfGaussians: {
+    case BeaconPdfKind::SumOfGaussians: {
       // Per-mode EKF and reweighting by the predicted range likelihood
       // (Blanco et al., IROS 2008, Eqs. 9-10).
       double max_w = -std::numeric_limits<double>::infinity();
@@ -370,7 +370,7 @@ void BeaconMap::fuse(Beacon& b, double range, const Eigen::Vector3d& sensor) {
       for (auto& m : b.modes) m.log_weight -= max_w;
       const PointGaussian3 g = b.moments();
       if (max_axis_std(g.covariance) < 0.10) {  // MRPT's fixed collapse threshold
-        b.kind = BeaconPdfKind::kGaussian;
+        b.kind = BeaconPdfKind::Gaussian;
         b.gaussian = g;
         b.modes.clear();
       }
@@ -396,7 +396,7 @@ double BeaconMap::log_likelihood(const Observation& observation, const Pose3& T_
     if (b != nullptr && range > 0.0 && std::isfinite(range)) {
       const Eigen::Vector3d sensor = robot_to_map(T_map_robot, r.position_on_robot);
       switch (b->kind) {
-        case BeaconPdfKind::kMonteCarlo: {
+        case BeaconPdfKind::MonteCarlo: {
           std::vector<double> lw, ll;
           lw.reserve(b->samples.size());
           ll.reserve(b->samples.size());
@@ -408,14 +408,14 @@ double BeaconMap::log_likelihood(const Observation& observation, const Pose3& T_
           if (!lw.empty()) ret += average_log_likelihood_log_weights(lw, ll);
           break;
         }
-        case BeaconPdfKind::kGaussian: {
+        case BeaconPdfKind::Gaussian: {
           double expected = 0.0, var_z = var_r;
           Eigen::RowVector3d H;
           if (!range_model(b->gaussian, sensor, var_r, expected, H, var_z)) var_z = var_r;
           ret += -0.5 * (range - expected) * (range - expected) / var_z;
           break;
         }
-        case BeaconPdfKind::kSumOfGaussians: {
+        case BeaconPdfKind::SumOfGaussians: {
           std::vector<double> lw, ll;
           for (const auto& m : b->modes) {
             double expected = 0.0, var_z = var_r;

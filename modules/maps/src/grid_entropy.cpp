@@ -31,7 +31,7 @@ std::vector<float> entropy_table(EntropyTable table) {
     const auto value = static_cast<Cell>(static_cast<Unsigned>(i));
     const float p = lut.l2p(value);
     float e = plogp(p) + plogp(1.0f - p);
-    if (table == EntropyTable::kMrpt && (i == 0 || i == kN - 1)) e = 0;
+    if (table == EntropyTable::Mrpt && (i == 0 || i == kN - 1)) e = 0;
     if (e > kMaxH - 1e-4) e = kMaxH;
     h[i] = e;
   }
@@ -43,9 +43,9 @@ std::vector<float> entropy_table(EntropyTable table) {
 template <GridCell Cell>
 GridEntropy grid_entropy(const OccupancyGridT<Cell>& grid, EntropyTable table) {
   using Unsigned = std::make_unsigned_t<Cell>;
-  static const std::array<std::vector<float>, 2> tables = {entropy_table<Cell>(EntropyTable::kExact),
-                                                           entropy_table<Cell>(EntropyTable::kMrpt)};
-  const std::vector<float>& h = tables[table == EntropyTable::kExact ? 0 : 1];
+  static const std::array<std::vector<float>, 2> tables = {entropy_table<Cell>(EntropyTable::Exact),
+                                                           entropy_table<Cell>(EntropyTable::Mrpt)};
+  const std::vector<float>& h = tables[table == EntropyTable::Exact ? 0 : 1];
   GridEntropy out;
   double minus_mapped_h = 0;
   for (const Cell c : grid.cells()) {

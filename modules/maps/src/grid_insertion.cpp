@@ -202,12 +202,12 @@ GridInsertResult insert_scan(OccupancyGridT<Cell>& grid, const RangeScan2D& scan
   GridInsertResult result;
   const Pose3 T_map_sensor = T_map_robot + scan.T_robot_sensor;
   if (!is_horizontal(scan.T_robot_sensor, opt.horizontal_tolerance)) {
-    result.status = GridInsertStatus::kNotHorizontal;
+    result.status = GridInsertStatus::NotHorizontal;
     result.message = "the scan is not horizontal within horizontalTolerance";
     return result;
   }
   if (opt.use_map_altitude && std::fabs(opt.map_altitude - T_map_sensor.z()) > 0.001) {
-    result.status = GridInsertStatus::kWrongAltitude;
+    result.status = GridInsertStatus::WrongAltitude;
     result.message = "the sensor is not at mapAltitude";
     return result;
   }

@@ -99,13 +99,13 @@ GridLikelihoodOptions GridLikelihoodOptions::from_config(const ConfigSection& co
   if (ini.has(section, "likelihoodMethod")) {
     o.method = ini.get_enum<GridLikelihoodMethod>(
         section, "likelihoodMethod",
-        {{"lmMeanInformation", GridLikelihoodMethod::kMeanInformation},
-         {"lmRayTracing", GridLikelihoodMethod::kRayTracing},
-         {"lmConsensus", GridLikelihoodMethod::kConsensus},
-         {"lmCellsDifference", GridLikelihoodMethod::kCellsDifference},
-         {"lmLikelihoodField_Thrun", GridLikelihoodMethod::kLikelihoodFieldThrun},
-         {"lmLikelihoodField_II", GridLikelihoodMethod::kLikelihoodFieldII},
-         {"lmConsensusOWA", GridLikelihoodMethod::kConsensusOWA}});
+        {{"lmMeanInformation", GridLikelihoodMethod::MeanInformation},
+         {"lmRayTracing", GridLikelihoodMethod::RayTracing},
+         {"lmConsensus", GridLikelihoodMethod::Consensus},
+         {"lmCellsDifference", GridLikelihoodMethod::CellsDifference},
+         {"lmLikelihoodField_Thrun", GridLikelihoodMethod::LikelihoodFieldThrun},
+         {"lmLikelihoodField_II", GridLikelihoodMethod::LikelihoodFieldII},
+         {"lmConsensusOWA", GridLikelihoodMethod::ConsensusOWA}});
   }
   const auto rf = [&](const char* key, float& v) {
     if (ini.has(section, key)) v = ini.get<float>(section, key);
@@ -166,7 +166,7 @@ GridLikelihoodOptions GridLikelihoodOptions::from_config(const ConfigSection& co
   need(o.consensus_take_each_range >= 1, "consensus_takeEachRange", o.consensus_take_each_range,
        "[1, inf)");
   for (const float w : o.owa_weights) need(std::isfinite(w), "OWA_weights", w, "the finite numbers");
-  if (o.owa_weights.empty() && o.method == GridLikelihoodMethod::kConsensusOWA) {
+  if (o.owa_weights.empty() && o.method == GridLikelihoodMethod::ConsensusOWA) {
     throw ConfigError(ini.source(), sec, "OWA_weights",
                       "likelihoodMethod lmConsensusOWA needs OWA_weights (none given)");
   }
@@ -192,7 +192,7 @@ void GridLikelihoodOptions::check() const {
   ROVE_CHECK_GE(ray_tracing_decimation, 1);
   ROVE_CHECK_GT(ray_tracing_std_hit, 0.0f);
   ROVE_CHECK_GE(consensus_take_each_range, 1);
-  ROVE_CHECK_MSG(!owa_weights.empty() || method != GridLikelihoodMethod::kConsensusOWA,
+  ROVE_CHECK_MSG(!owa_weights.empty() || method != GridLikelihoodMethod::ConsensusOWA,
                  "OWA_weights is empty");
   for (const float w : owa_weights) ROVE_CHECK_FINITE(w);
 }
@@ -211,7 +211,7 @@ template <GridCell Cell>
 void GridLikelihoodModel<Cell>::refresh() {
   revision_ = grid_->revision();
   field_.clear();
-  if (options_.method != GridLikelihoodMethod::kLikelihoodFieldThrun) return;
+  if (options_.method != GridLikelihoodMethod::LikelihoodFieldThrun) return;
   const auto& g = *grid_;
   const GridLikelihoodOptions& o = options_;
   // MRPT's per-cell value (COccupancyGridMap2D::computeLikelihoodField_Thrun),
@@ -272,14 +272,14 @@ PreparedGridScan GridLikelihoodModel<Cell>::prepare(const RangeScan2D& scan) con
     return p;
   }
   switch (options_.method) {
-    case GridLikelihoodMethod::kLikelihoodFieldThrun:
+    case GridLikelihoodMethod::LikelihoodFieldThrun:
       mrpt_scan_points(scan, grid_->resolution() * 0.5f, p.xs, p.ys);
       break;
-    case GridLikelihoodMethod::kLikelihoodFieldII:
-    case GridLikelihoodMethod::kConsensus:
+    case GridLikelihoodMethod::LikelihoodFieldII:
+    case GridLikelihoodMethod::Consensus:
       mrpt_scan_points(scan, 0.02f, p.xs, p.ys);
       break;
-    case GridLikelihoodMethod::kConsensusOWA:
+    case GridLikelihoodMethod::ConsensusOWA:
       mrpt_scan_points(scan, -1.0f, p.xs, p.ys);
       break;
     default:
@@ -600,7 +600,7 @@ double GridLikelihoodModel<Cell>::log_likelihood(const PreparedGridScan& scan,
   check_fresh();
   const Eigen::Vector2d& t = T_map_robot.translation();
   const Pose2 pose(t.x(), t.y(), T_map_robot.angle());
-  if (scan.usable && options_.method == GridLikelihoodMethod::kLikelihoodFieldThrun) {
+  if (scan.usable && options_.method == GridLikelihoodMethod::LikelihoodFieldThrun) {
     // The rotation's cosine and sine as they are, not recomputed from the angle.
     const Eigen::Vector2d cs = T_map_robot.rotation().unit_complex();
     const EvalContext<Cell> ctx{*grid_, options_, insertion_, scan, pose, cs.x(), cs.y(), t.x(), t.y()};
@@ -615,13 +615,13 @@ double GridLikelihoodModel<Cell>::eval_one(const PreparedGridScan& s, const Pose
   const EvalContext<Cell> ctx{*grid_, options_, insertion_, s, pose, std::cos(pose.phi()),
                               std::sin(pose.phi()), pose.x(), pose.y()};
   switch (options_.method) {
-    case GridLikelihoodMethod::kLikelihoodFieldThrun: return field_thrun(ctx, field_, field_outside_);
-    case GridLikelihoodMethod::kLikelihoodFieldII: return field_ii(ctx);
-    case GridLikelihoodMethod::kConsensus: return consensus(ctx);
-    case GridLikelihoodMethod::kConsensusOWA: return consensus_owa(ctx);
-    case GridLikelihoodMethod::kRayTracing: return ray_tracing(ctx);
-    case GridLikelihoodMethod::kCellsDifference: return cells_difference(ctx);
-    case GridLikelihoodMethod::kMeanInformation: return mean_information(ctx);
+    case GridLikelihoodMethod::LikelihoodFieldThrun: return field_thrun(ctx, field_, field_outside_);
+    case GridLikelihoodMethod::LikelihoodFieldII: return field_ii(ctx);
+    case GridLikelihoodMethod::Consensus: return consensus(ctx);
+    case GridLikelihoodMethod::ConsensusOWA: return consensus_owa(ctx);
+    case GridLikelihoodMethod::RayTracing: return ray_tracing(ctx);
+    case GridLikelihoodMethod::CellsDifference: return cells_difference(ctx);
+    case GridLikelihoodMethod::MeanInformation: return mean_information(ctx);
   }
   return 0.0;
 }

@@ -132,7 +132,7 @@ std::vector<Eigen::Vector3d> HeightMap::observation_points(const Observation& ob
                                                            const Pose3& T) const {
   std::vector<Eigen::Vector3d> pts;
   if (const auto* scan = dynamic_cast<const RangeScan2D*>(&obs)) {
-    pts = scan->points_3d(ScanFrame::kRobot);
+    pts = scan->points_3d(ScanFrame::Robot);
   } else if (const auto* img = dynamic_cast<const RangeImage3D*>(&obs)) {
     pts = img->project().points;
   } else {

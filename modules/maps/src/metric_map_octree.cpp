@@ -69,7 +69,7 @@ bool points_of(const Observation& o, const Pose3& T_map_robot, bool want_colors,
     } else if (img->depth.pixel_count() > 0) {
       img->check();
       RangeImageProjectionOptions po;
-      po.frame = RangeImageFrame::kRobot;
+      po.frame = RangeImageFrame::Robot;
       po.T_target_robot = T_map_robot;
       for (const auto& p : img->project(po).points) sp.p_map.push_back(p.cast<float>());
     } else {

@@ -44,9 +44,9 @@ PointMapLikelihoodOptions PointMapLikelihoodOptions::from_config(const ConfigSec
 namespace {
 PointChannels channels_of(PointsMapFlavor f) {
   switch (f) {
-    case PointsMapFlavor::kColoured: return PointChannels::kColor;
-    case PointsMapFlavor::kIntensity: return PointChannels::kIntensity;
-    default: return PointChannels::kNone;
+    case PointsMapFlavor::Coloured: return PointChannels::Color;
+    case PointsMapFlavor::Intensity: return PointChannels::Intensity;
+    default: return PointChannels::None;
   }
 }
 }  // namespace
@@ -55,10 +55,10 @@ PointsMetricMap::PointsMetricMap(PointsMapFlavor flavor) : flavor_(flavor), map_
 
 std::string_view PointsMetricMap::kind() const noexcept {
   switch (flavor_) {
-    case PointsMapFlavor::kSimple: return "pointsMap";
-    case PointsMapFlavor::kColoured: return "colourPointsMap";
-    case PointsMapFlavor::kWeighted: return "weightedPointsMap";
-    case PointsMapFlavor::kIntensity: return "pointsMapXYZI";
+    case PointsMapFlavor::Simple: return "pointsMap";
+    case PointsMapFlavor::Coloured: return "colourPointsMap";
+    case PointsMapFlavor::Weighted: return "weightedPointsMap";
+    case PointsMapFlavor::Intensity: return "pointsMapXYZI";
   }
   return "pointsMap";
 }

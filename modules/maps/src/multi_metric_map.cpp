@@ -82,22 +82,22 @@ const std::vector<KindInfo>& kinds() {
       {"pointsMap",
        {"mrpt::maps::CSimplePointsMap", "CSimplePointsMap", "pointsMap"},
        [](const IniFile& i, const std::string& p, std::vector<IgnoredConfigKey>* g) {
-         return make_points_metric_map(i, p, PointsMapFlavor::kSimple, g);
+         return make_points_metric_map(i, p, PointsMapFlavor::Simple, g);
        }},
       {"colourPointsMap",
        {"mrpt::maps::CColouredPointsMap", "CColouredPointsMap", "colourPointsMap"},
        [](const IniFile& i, const std::string& p, std::vector<IgnoredConfigKey>* g) {
-         return make_points_metric_map(i, p, PointsMapFlavor::kColoured, g);
+         return make_points_metric_map(i, p, PointsMapFlavor::Coloured, g);
        }},
       {"weightedPointsMap",
        {"mrpt::maps::CWeightedPointsMap", "CWeightedPointsMap", "weightedPointsMap"},
        [](const IniFile& i, const std::string& p, std::vector<IgnoredConfigKey>* g) {
-         return make_points_metric_map(i, p, PointsMapFlavor::kWeighted, g);
+         return make_points_metric_map(i, p, PointsMapFlavor::Weighted, g);
        }},
       {"pointsMapXYZI",
        {"mrpt::maps::CPointsMapXYZI", "CPointsMapXYZI"},
        [](const IniFile& i, const std::string& p, std::vector<IgnoredConfigKey>* g) {
-         return make_points_metric_map(i, p, PointsMapFlavor::kIntensity, g);
+         return make_points_metric_map(i, p, PointsMapFlavor::Intensity, g);
        }},
       {"beaconMap", {"mrpt::maps::CBeaconMap", "CBeaconMap", "beaconMap"}, make_beacon_map},
       {"landmarksMap",

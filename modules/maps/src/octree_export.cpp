@@ -14,7 +14,7 @@ namespace rove {
 PointCloud octree_occupied_cloud(const OccupancyOctree& tree, const OctreeCloudOptions& options) {
   const bool colors = has_channels(tree.channels(), OctreeChannels::Color);
   PointCloud cloud;
-  if (colors) cloud.set_channels(PointChannels::kColor);
+  if (colors) cloud.set_channels(PointChannels::Color);
   const auto add = [&](const Eigen::Vector3d& p, const OctreeKey& k) {
     if (cloud.size() >= options.max_points) {
       throw ResourceError(fmt::format("octree cloud: more than {} occupied cells", options.max_points));

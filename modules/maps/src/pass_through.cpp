@@ -8,24 +8,24 @@
 namespace rove {
 
 PointField parse_point_field(std::string_view name) {
-  if (name == "x") return PointField::kX;
-  if (name == "y") return PointField::kY;
-  if (name == "z") return PointField::kZ;
-  if (name == "intensity") return PointField::kIntensity;
-  if (name == "normal_x") return PointField::kNormalX;
-  if (name == "normal_y") return PointField::kNormalY;
-  if (name == "normal_z") return PointField::kNormalZ;
+  if (name == "x") return PointField::X;
+  if (name == "y") return PointField::Y;
+  if (name == "z") return PointField::Z;
+  if (name == "intensity") return PointField::Intensity;
+  if (name == "normal_x") return PointField::NormalX;
+  if (name == "normal_y") return PointField::NormalY;
+  if (name == "normal_z") return PointField::NormalZ;
   ROVE_CHECK_MSG(false, "unknown point field '{}' (x, y, z, intensity, normal_x, normal_y, normal_z)",
                  std::string(name));
-  return PointField::kX;
+  return PointField::X;
 }
 
 PassThroughResult pass_through_filter(const PointCloud& cloud, const PassThroughOptions& o) {
   ROVE_CHECK(!std::isnan(o.min) && !std::isnan(o.max));
   ROVE_CHECK_LE(o.min, o.max);
-  const bool wants_intensity = o.field == PointField::kIntensity;
+  const bool wants_intensity = o.field == PointField::Intensity;
   const bool wants_normal =
-      o.field == PointField::kNormalX || o.field == PointField::kNormalY || o.field == PointField::kNormalZ;
+      o.field == PointField::NormalX || o.field == PointField::NormalY || o.field == PointField::NormalZ;
   ROVE_CHECK_MSG(!wants_intensity || cloud.has_intensity(), "pass-through on intensity: the cloud has none");
   ROVE_CHECK_MSG(!wants_normal || cloud.has_normals(), "pass-through on a normal: the cloud has none");
   PassThroughResult res;
@@ -34,13 +34,13 @@ PassThroughResult pass_through_filter(const PointCloud& cloud, const PassThrough
     if (!p.allFinite()) continue;
     float v = 0;
     switch (o.field) {
-      case PointField::kX: v = p.x(); break;
-      case PointField::kY: v = p.y(); break;
-      case PointField::kZ: v = p.z(); break;
-      case PointField::kIntensity: v = cloud.intensities()[i]; break;
-      case PointField::kNormalX: v = cloud.normals()[i].x(); break;
-      case PointField::kNormalY: v = cloud.normals()[i].y(); break;
-      case PointField::kNormalZ: v = cloud.normals()[i].z(); break;
+      case PointField::X: v = p.x(); break;
+      case PointField::Y: v = p.y(); break;
+      case PointField::Z: v = p.z(); break;
+      case PointField::Intensity: v = cloud.intensities()[i]; break;
+      case PointField::NormalX: v = cloud.normals()[i].x(); break;
+      case PointField::NormalY: v = cloud.normals()[i].y(); break;
+      case PointField::NormalZ: v = cloud.normals()[i].z(); break;
     }
     if (std::isnan(v)) continue;
     const bool inside = v >= o.min && v <= o.max;

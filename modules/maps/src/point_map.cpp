@@ -179,7 +179,7 @@ std::vector<Eigen::Vector3f> image_points_mrpt(const RangeImage3D& scan, const P
                                                const PointMapInsertionOptions& o, std::vector<std::size_t>* pixel_of) {
   scan.check();
   RangeImageProjectionOptions po;
-  po.frame = RangeImageFrame::kRobot;
+  po.frame = RangeImageFrame::Robot;
   po.T_target_robot = T_frame_robot;
   const RangeImageProjection proj = scan.project(po);
   const std::size_t w = scan.depth_camera.width, h = scan.depth_camera.height;
@@ -291,7 +291,7 @@ namespace {
 Rgb8 sample_color(const Image& img, double u, double v) {
   const long ui = std::lround(u), vi = std::lround(v);
   if (ui < 0 || vi < 0 || ui >= static_cast<long>(img.width) || vi >= static_cast<long>(img.height) ||
-      img.pixel_type != PixelType::kU8)
+      img.pixel_type != PixelType::U8)
     return Rgb8{};
   const std::size_t base = (static_cast<std::size_t>(vi) * img.width + static_cast<std::size_t>(ui)) * img.channels;
   if (img.channels >= 3) return Rgb8{img.data[base], img.data[base + 1], img.data[base + 2]};

@@ -83,10 +83,10 @@ VoxelGridResult voxel_grid_filter(const PointCloud& cloud, const VoxelGridOption
   }
   const bool avg = o.average_channels;
   const bool col = avg && cloud.has_colors(), inten = avg && cloud.has_intensity(), nrm = avg && cloud.has_normals();
-  PointChannels ch = PointChannels::kNone;
-  if (col) ch = ch | PointChannels::kColor;
-  if (inten) ch = ch | PointChannels::kIntensity;
-  if (nrm) ch = ch | PointChannels::kNormal;
+  PointChannels ch = PointChannels::None;
+  if (col) ch = ch | PointChannels::Color;
+  if (inten) ch = ch | PointChannels::Intensity;
+  if (nrm) ch = ch | PointChannels::Normal;
   res.cloud.set_channels(ch);
   if (res.finite_input == 0) return res;
 

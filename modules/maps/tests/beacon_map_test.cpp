@@ -100,7 +100,7 @@ void expect_converges(bool monte_carlo) {
   for (const auto& [id, truth] : sim.beacons) {
     const Beacon* b = map.find(id);
     ASSERT_NE(b, nullptr);
-    EXPECT_EQ(b->kind, BeaconPdfKind::kGaussian) << "beacon " << id;
+    EXPECT_EQ(b->kind, BeaconPdfKind::Gaussian) << "beacon " << id;
     const PointGaussian3 g = b->moments();
     EXPECT_LT((g.mean - truth).norm(), 0.05) << "beacon " << id << " at " << g.mean.transpose();
     EXPECT_NEAR(g.mean.z(), 0.0, 1e-9);  // 2D map stays in the plane
@@ -135,7 +135,7 @@ TEST(BeaconMap, GaussianLikelihoodIsTheInnovationDensity) {
   BeaconMap map({}, BeaconMapLikelihoodOptions{0.1});
   Beacon b;
   b.id = 3;
-  b.kind = BeaconPdfKind::kGaussian;
+  b.kind = BeaconPdfKind::Gaussian;
   b.gaussian.mean = Eigen::Vector3d(4, 0, 0);
   b.gaussian.covariance = Eigen::Vector3d(0.04, 0.09, 0).asDiagonal();
   map.add(b);

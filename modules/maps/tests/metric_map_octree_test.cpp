@@ -188,7 +188,7 @@ TEST(OctreeMetricMap, ColourMapTakesThePixelEachPointProjectsTo) {
   stored.p_sensor.emplace_back(2.0f, -0.5f, 0.0f);  // right: u > 50
   img.points.emplace(std::move(stored));
   img.intensity_camera = PinholeCamera{100, 100, 50.0, 50.0, 49.5, 49.5, {}};
-  Image rgb = Image::zeros(100, 100, 3, PixelType::kU8);
+  Image rgb = Image::zeros(100, 100, 3, PixelType::U8);
   for (std::size_t i = 0; i < 100 * 100; ++i) {
     rgb.data[3 * i + ((i % 100) < 50 ? 0 : 2)] = 200;
   }

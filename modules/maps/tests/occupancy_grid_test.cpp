@@ -120,7 +120,7 @@ TEST(GridInsertion, RayFreesCellsAndMarksHit) {
   EXPECT_EQ(g.free_probability_at(3.0, 0.05), 0.5f);
   RangeScan2D tilted = straight_scan(2.0f);
   tilted.T_robot_sensor = Pose3(0, 0, 0, 0, 0.3, 0);
-  EXPECT_EQ(insert_scan(g, tilted, Pose2()).status, GridInsertStatus::kNotHorizontal);
+  EXPECT_EQ(insert_scan(g, tilted, Pose2()).status, GridInsertStatus::NotHorizontal);
   RangeScan2D bad = straight_scan(2.0f);
   bad.ranges[1] = std::nanf("");
   EXPECT_TRUE(insert_scan(g, bad, Pose2()).inserted());  // NaN ray is skipped, not inserted
@@ -204,7 +204,7 @@ TEST(GridOptions, LoadFromIniAndReportErrors) {
   EXPECT_NEAR(io.horizontal_tolerance, 3.14159265 / 180, 1e-7);
   EXPECT_TRUE(io.widening_beams_with_distance);
   const auto lo = GridLikelihoodOptions::from_config(ConfigSection(ini, "g_likelihoodOpts"));
-  EXPECT_EQ(lo.method, GridLikelihoodMethod::kConsensus);
+  EXPECT_EQ(lo.method, GridLikelihoodMethod::Consensus);
   EXPECT_EQ(lo.lf_decimation, 3u);
   EXPECT_EQ(ini.unread_keys("g_likelihoodOpts"), std::vector<std::string>{"foo"});
   EXPECT_THROW(GridInsertionOptions::from_config(ConfigSection(ini, "bad")), ConfigError);
@@ -267,7 +267,7 @@ void check_entropy_properties() {
   EXPECT_EQ(u.mean_entropy, 0.0);
   EXPECT_EQ(u.mapped_area, 0.0);
   // MRPT's table counts the same unknown cells as mapped and certain.
-  const GridEntropy um = grid_entropy(unknown, EntropyTable::kMrpt);
+  const GridEntropy um = grid_entropy(unknown, EntropyTable::Mrpt);
   EXPECT_EQ(um.entropy, 0.0);
   EXPECT_EQ(um.mapped_cells, n);
   EXPECT_NEAR(um.information, static_cast<double>(n), 1e-9);

@@ -28,7 +28,7 @@ TEST(PointMap, InsertsA2DScanAtARobotPoseLikeItsOwnProjection) {
   map.insertion_options.min_dist_between_points = 0;  // keep every ray
   const Pose3 T(1.0, -2.0, 0.0, 0.7, 0, 0);
   ASSERT_TRUE(map.insert(s, T));
-  const auto expect = s.points_3d(ScanFrame::kRobot);
+  const auto expect = s.points_3d(ScanFrame::Robot);
   ASSERT_EQ(map.size(), expect.size());
   for (std::size_t i = 0; i < expect.size(); ++i) {
     const Eigen::Vector3d g = T.rotation() * expect[i] + T.translation();
@@ -169,7 +169,7 @@ TEST(PointMap, IntensityChannelFromScanIntensities) {
   RangeScan2D s = make_scan(11);
   s.intensity.assign(11, 0);
   for (int i = 0; i < 11; ++i) s.intensity[static_cast<std::size_t>(i)] = i * 10;
-  PointMap map(PointChannels::kIntensity);
+  PointMap map(PointChannels::Intensity);
   map.insertion_options.min_dist_between_points = 0;
   map.insert(s, Pose3());
   ASSERT_EQ(map.size(), 11u);

@@ -39,7 +39,7 @@ TEST(VoxelGrid, HugeGridsBeyond64BitIndicesStillWork) {
 
 TEST(VoxelGrid, AveragesChannelsAndHonorsMinPoints) {
   PointCloud c;
-  c.set_channels(PointChannels::kColor | PointChannels::kIntensity | PointChannels::kNormal);
+  c.set_channels(PointChannels::Color | PointChannels::Intensity | PointChannels::Normal);
   c.push_back({0.1f, 0.1f, 0.1f}, Rgb8{0, 100, 255});
   c.push_back({0.2f, 0.2f, 0.2f}, Rgb8{255, 101, 0});
   c.push_back({5.1f, 0.1f, 0.1f}, Rgb8{1, 2, 3});
@@ -59,13 +59,13 @@ TEST(VoxelGrid, AveragesChannelsAndHonorsMinPoints) {
   EXPECT_EQ(r.cloud.size(), 1u);
   EXPECT_EQ(r.dropped_voxels, 1u);
   o.average_channels = false;
-  EXPECT_EQ(voxel_grid_filter(c, o).cloud.channels(), PointChannels::kNone);
+  EXPECT_EQ(voxel_grid_filter(c, o).cloud.channels(), PointChannels::None);
   EXPECT_TRUE(voxel_downsample(PointCloud{}, 0.1f).empty());
 }
 
 TEST(PassThrough, KeepsInclusiveLimitsAndNegative) {
   PointCloud c;
-  c.set_channels(PointChannels::kIntensity);
+  c.set_channels(PointChannels::Intensity);
   for (int i = 0; i < 10; ++i) c.push_back({0, 0, static_cast<float>(i)});
   c.push_back({std::nanf(""), 0, 5});
   for (int i = 0; i < 11; ++i) c.intensities_mut()[static_cast<std::size_t>(i)] = static_cast<float>(-i);
@@ -85,7 +85,7 @@ TEST(PassThrough, KeepsInclusiveLimitsAndNegative) {
   EXPECT_THROW(parse_point_field("w"), InvalidArgument);
   o.min = 5;
   EXPECT_THROW(pass_through_filter(c, o), InvalidArgument);
-  o.field = PointField::kNormalX;
+  o.field = PointField::NormalX;
   o.min = 0;
   EXPECT_THROW(pass_through_filter(c, o), InvalidArgument);
 }

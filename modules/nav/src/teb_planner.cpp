@@ -164,7 +164,7 @@ std::vector<TebObstacle> point_obstacles(const std::vector<Eigen::Vector2d>& poi
 }
 
 std::vector<Eigen::Vector2d> scan_points_in_map(const RangeScan2D& scan, const SE2d& T_map_robot) {
-  std::vector<Eigen::Vector2d> pts = scan.points_2d(ScanFrame::kRobot);
+  std::vector<Eigen::Vector2d> pts = scan.points_2d(ScanFrame::Robot);
   for (auto& p : pts) p = T_map_robot * p;
   return pts;
 }

@@ -106,7 +106,7 @@ void GpsObservation::load_payload(InArchive& ar, std::uint8_t version) {
   altitude_m = ar.read_scalar<double>("altitude");
   const std::uint64_t at = ar.offset();
   const auto q = ar.read_scalar<std::uint8_t>("fix_quality");
-  if (q > static_cast<std::uint8_t>(GpsFixQuality::kSimulation)) {
+  if (q > static_cast<std::uint8_t>(GpsFixQuality::Simulation)) {
     ar.fail_at(at, "fix_quality", "unknown GPS fix quality " + std::to_string(q));
   }
   fix_quality = static_cast<GpsFixQuality>(q);

@@ -22,9 +22,9 @@ bool shape_bytes(std::uint32_t w, std::uint32_t h, std::uint32_t c, PixelType t,
 
 std::size_t bytes_per_sample(PixelType t) noexcept {
   switch (t) {
-    case PixelType::kU8: return 1;
-    case PixelType::kU16: return 2;
-    case PixelType::kF32: return 4;
+    case PixelType::U8: return 1;
+    case PixelType::U16: return 2;
+    case PixelType::F32: return 4;
   }
   return 0;
 }
@@ -75,7 +75,7 @@ void load(InArchive& ar, Image& image) {
   image.height = ar.read_scalar<std::uint32_t>("image height");
   image.channels = ar.read_scalar<std::uint32_t>("image channels");
   const auto type = ar.read_scalar<std::uint8_t>("pixel type");
-  if (type > static_cast<std::uint8_t>(PixelType::kF32)) {
+  if (type > static_cast<std::uint8_t>(PixelType::F32)) {
     ar.fail_at(at, "pixel type", "unknown pixel type " + std::to_string(type));
   }
   image.pixel_type = static_cast<PixelType>(type);

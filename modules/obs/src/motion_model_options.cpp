@@ -59,7 +59,7 @@ MotionModelOptions MotionModelOptions::from_config(const ConfigSection& section)
   MotionModelOptions o;
   o.model = section.get_enum<MotionModel>(
       "modelSelection", o.model,
-      {{"mmGaussian", MotionModel::kGaussian}, {"mmThrun", MotionModel::kThrun}});
+      {{"mmGaussian", MotionModel::Gaussian}, {"mmThrun", MotionModel::Thrun}});
   // Gaussian model: a1 m/m, a2 m/deg, a3 deg/m, a4 deg/deg, minStdXY m, minStdPHI deg.
   read_param(section, "a1", 1.0, o.gaussian.a1_m_per_m);
   read_param(section, "a2", kPerDeg, o.gaussian.a2_m_per_rad);
@@ -129,7 +129,7 @@ void load(InArchive& ar, MotionModelOptions& o) {
   read_version(ar, "MotionModelOptions", 1);
   const std::uint64_t at = ar.offset();
   const auto m = ar.read_scalar<std::uint8_t>("motion model");
-  if (m > static_cast<std::uint8_t>(MotionModel::kThrun)) {
+  if (m > static_cast<std::uint8_t>(MotionModel::Thrun)) {
     ar.fail_at(at, "motion model", "unknown motion model " + std::to_string(m));
   }
   o.model = static_cast<MotionModel>(m);

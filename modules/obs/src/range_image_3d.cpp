@@ -45,16 +45,16 @@ RangeImageProjection RangeImage3D::project(const RangeImageProjectionOptions& op
   // Output = R · p_optical + t for the requested frame.
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
-  if (options.frame != RangeImageFrame::kOptical) {
+  if (options.frame != RangeImageFrame::Optical) {
     Pose3 T = sensor_from_optical();
-    if (options.frame == RangeImageFrame::kRobot) {
+    if (options.frame == RangeImageFrame::Robot) {
       T = T_robot_sensor + T;
       if (options.T_target_robot) T = *options.T_target_robot + T;
     }
     R = T.rotation();
     t = T.translation();
   }
-  const bool transform = options.frame != RangeImageFrame::kOptical;
+  const bool transform = options.frame != RangeImageFrame::Optical;
   const bool distorted = depth_camera.has_distortion();
 
   RangeImageProjection out;
@@ -150,7 +150,7 @@ void RangeImage3D::load_payload(InArchive& ar, std::uint8_t version) {
   load(ar, intensity);
   load(ar, intensity_camera);
   T_sensor_intensity = detail::load_pose3(ar, "T_sensor_intensity");
-  intensity_channel = IntensityChannel::kVisible;
+  intensity_channel = IntensityChannel::Visible;
   confidence.reset();
   points.reset();
   std_error_m = 0.01;

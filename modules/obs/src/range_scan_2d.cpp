@@ -71,7 +71,7 @@ std::vector<Eigen::Vector3d> RangeScan2D::points_3d(ScanFrame frame) const {
   std::vector<Eigen::Vector3d> out;
   out.reserve(rays.size());
   if (rays.empty()) return out;
-  const bool to_robot = frame == ScanFrame::kRobot;
+  const bool to_robot = frame == ScanFrame::Robot;
   const Eigen::Matrix3d& R = T_robot_sensor.rotation();
   const Eigen::Vector3d& t = T_robot_sensor.translation();
   for (const std::size_t i : rays) {

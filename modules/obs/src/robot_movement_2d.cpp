@@ -26,7 +26,7 @@ Pose2Particles RobotMovement2D::particles(std::mt19937_64& rng) const {
 
 Pose2 RobotMovement2D::sample(std::mt19937_64& rng) const {
   if (estimated_pose_change) return estimated_pose_change->sample(rng);
-  if (motion_model.model == MotionModel::kThrun) {
+  if (motion_model.model == MotionModel::Thrun) {
     return sample_thrun_motion(odometry_increment, motion_model.thrun, rng);
   }
   return gaussian_motion_model(odometry_increment, motion_model.gaussian).sample(rng);

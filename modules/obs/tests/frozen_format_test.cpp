@@ -193,7 +193,7 @@ TEST(FrozenFormat, RobotMovement3DVersion1) {
   m.timestamp = Timestamp::from_ns(2000);
   m.pose_change = Pose3Gaussian(Pose3(1.0, 2.0, 0.5, 0.0, 0.0, 0.0),
                                 Pose3Gaussian::Matrix::Identity() * 0.5);
-  m.source = Movement3DSource::kVisualOdometry;
+  m.source = Movement3DSource::VisualOdometry;
   m.velocity = Twist3{0.5, 0, 0, 0, 0, 0.25};
   expect_frozen(m, kMovement3DV1);
 }
@@ -241,7 +241,7 @@ TEST(FrozenFormat, GpsObservationVersions1And2) {
   g.latitude_deg = 36.5;
   g.longitude_deg = -4.5;
   g.altitude_m = 40;
-  g.fix_quality = GpsFixQuality::kRtkFixed;
+  g.fix_quality = GpsFixQuality::RtkFixed;
   g.satellites = 9;
   g.hdop = 0.75;
   expect_reads(g, kGpsV1);

@@ -29,7 +29,7 @@ additional_std_phi = 0.1
 )");
   const MotionModelOptions o =
       MotionModelOptions::from_config(ConfigSection(ini, "MotionModel"));
-  EXPECT_EQ(o.model, MotionModel::kThrun);
+  EXPECT_EQ(o.model, MotionModel::Thrun);
   EXPECT_DOUBLE_EQ(o.gaussian.a1_m_per_m, 0.05);
   EXPECT_DOUBLE_EQ(o.gaussian.a2_m_per_rad, 0.001 * 180.0 / kPi);
   EXPECT_DOUBLE_EQ(o.gaussian.a3_rad_per_m, 5.0 * kPi / 180.0);
@@ -78,7 +78,7 @@ TEST(MotionModelOptions, BadValuesNameTheKey) {
   EXPECT_THROW((void)load("[M]\nnParticlesCount = 0\n"), ConfigError);
   EXPECT_THROW((void)load("[M]\nminStdXY = abc\n"), ConfigError);
   EXPECT_THROW((void)load("[M]\na3 = inf\n"), ConfigError);
-  EXPECT_EQ(load("[M]\nmodelSelection = 1\n").model, MotionModel::kThrun);
+  EXPECT_EQ(load("[M]\nmodelSelection = 1\n").model, MotionModel::Thrun);
 }
 
 } // namespace

@@ -214,7 +214,7 @@ TEST(MotionModels, RejectBadOptions) {
 
 TEST(RobotMovement2D, ModelSelectionAndEstimatedChange) {
   MotionModelOptions opts;
-  opts.model = MotionModel::kThrun;
+  opts.model = MotionModel::Thrun;
   RobotMovement2D m(Pose2(1.0, 0.0, 0.0), opts);
   EXPECT_EQ(m.gaussian().mean(), Pose2(1.0, 0.0, 0.0));
   std::mt19937_64 rng(3);

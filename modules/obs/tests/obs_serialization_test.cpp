@@ -53,7 +53,7 @@ RangeImage3D sample_rgbd() {
   std::get<std::vector<std::uint16_t>>(r.depth.values) = {0, 1, 2, 3, 4, 5, 6, 65535};
   r.range_is_depth = false;
   r.max_range = 8.0;
-  r.intensity = Image::zeros(4, 2, 3, PixelType::kU8);
+  r.intensity = Image::zeros(4, 2, 3, PixelType::U8);
   r.intensity->data[5] = 200;
   r.intensity_camera = {4, 2, 4.0, 4.0, 2.0, 1.0, {}};
   r.T_sensor_intensity = Pose3(0.025, 0.0, 0.0, -kPi / 2, 0.0, -kPi / 2);
@@ -73,7 +73,7 @@ ImageObservation sample_image() {
   ImageObservation o;
   fill_header(o, "CAMERA");
   o.camera = {3, 2, 300.0, 300.0, 1.0, 0.5, {}};
-  o.image = Image::zeros(3, 2, 1, PixelType::kU16);
+  o.image = Image::zeros(3, 2, 1, PixelType::U16);
   o.image.data[3] = 0xAB;
   return o;
 }
@@ -119,7 +119,7 @@ GpsObservation sample_gps() {
   g.latitude_deg = 36.8389;
   g.longitude_deg = -2.4597;
   g.altitude_m = 52.5;
-  g.fix_quality = GpsFixQuality::kRtkFixed;
+  g.fix_quality = GpsFixQuality::RtkFixed;
   g.satellites = 11;
   g.hdop = 0.8;
   g.enu_position = Eigen::Vector3d(10.0, -3.0, 0.5);
@@ -128,7 +128,7 @@ GpsObservation sample_gps() {
 
 RobotMovement2D sample_movement() {
   MotionModelOptions opts;
-  opts.model = MotionModel::kThrun;
+  opts.model = MotionModel::Thrun;
   opts.thrun.particle_count = 50;
   RobotMovement2D m(Pose2(0.2, 0.01, 0.05), opts);
   m.timestamp = Timestamp::from_ns(42);
@@ -225,7 +225,7 @@ TEST(ObsSerialization, ValueRecordsRoundTrip) {
   OutArchive oa(out);
   const PinholeCamera cam = sample_rgbd().depth_camera;
   MotionModelOptions opts;
-  opts.model = MotionModel::kThrun;
+  opts.model = MotionModel::Thrun;
   opts.gaussian.a4_rad_per_rad = 0.2;
   opts.thrun.particle_count = 7;
   oa << cam << sample_rgbd().depth << *sample_rgbd().intensity << opts << EncoderTicks{1, -2}

@@ -32,7 +32,7 @@ RangeImage3D make_rgbd() {
 
 TEST(RangeImage3D, PinholeProjectionIsExactInTheOpticalFrame) {
   const RangeImage3D obs = make_rgbd();
-  const RangeImageProjection p = obs.project({RangeImageFrame::kOptical, std::nullopt});
+  const RangeImageProjection p = obs.project({RangeImageFrame::Optical, std::nullopt});
   ASSERT_EQ(p.points.size(), 10u);
   for (std::size_t k = 0; k < p.points.size(); ++k) {
     const double u = p.pixel_u[k], v = p.pixel_v[k];
@@ -49,8 +49,8 @@ TEST(RangeImage3D, PinholeProjectionIsExactInTheOpticalFrame) {
 
 TEST(RangeImage3D, SensorFrameIsXForwardYLeftZUp) {
   const RangeImage3D obs = make_rgbd();
-  const auto optical = obs.project({RangeImageFrame::kOptical, std::nullopt});
-  const auto sensor = obs.project({RangeImageFrame::kSensor, std::nullopt});
+  const auto optical = obs.project({RangeImageFrame::Optical, std::nullopt});
+  const auto sensor = obs.project({RangeImageFrame::Sensor, std::nullopt});
   ASSERT_EQ(optical.points.size(), sensor.points.size());
   for (std::size_t k = 0; k < sensor.points.size(); ++k) {
     EXPECT_NEAR(sensor.points[k].x(), optical.points[k].z(), 1e-12);
@@ -63,9 +63,9 @@ TEST(RangeImage3D, RobotAndTargetFrames) {
   RangeImage3D obs = make_rgbd();
   obs.T_robot_sensor = Pose3(0.5, 0.0, 1.0, kPi / 2, 0.0, 0.0);
   const Pose3 T_world_robot(10.0, 20.0, 0.0, kPi, 0.0, 0.0);
-  const auto sensor = obs.project({RangeImageFrame::kSensor, std::nullopt});
-  const auto robot = obs.project({RangeImageFrame::kRobot, std::nullopt});
-  const auto world = obs.project({RangeImageFrame::kRobot, T_world_robot});
+  const auto sensor = obs.project({RangeImageFrame::Sensor, std::nullopt});
+  const auto robot = obs.project({RangeImageFrame::Robot, std::nullopt});
+  const auto world = obs.project({RangeImageFrame::Robot, T_world_robot});
   ASSERT_EQ(sensor.points.size(), world.points.size());
   for (std::size_t k = 0; k < sensor.points.size(); ++k) {
     const Eigen::Vector3d& s = sensor.points[k];
@@ -83,7 +83,7 @@ TEST(RangeImage3D, RobotAndTargetFrames) {
 TEST(RangeImage3D, RangeImagesScaleTheUnitRay) {
   RangeImage3D obs = make_rgbd();
   obs.range_is_depth = false;
-  const auto p = obs.project({RangeImageFrame::kOptical, std::nullopt});
+  const auto p = obs.project({RangeImageFrame::Optical, std::nullopt});
   ASSERT_EQ(p.points.size(), 10u);
   for (std::size_t k = 0; k < p.points.size(); ++k) {
     EXPECT_NEAR(p.points[k].norm(), 2.0, 1e-12);
@@ -103,7 +103,7 @@ TEST(RangeImage3D, FloatImagesSkipNanNegativeAndFar) {
   v[5] = 5.0f;   // exactly max_range: kept
   v[6] = 5.01f;  // beyond: dropped
   v[7] = std::numeric_limits<float>::infinity();
-  const auto p = obs.project({RangeImageFrame::kOptical, std::nullopt});
+  const auto p = obs.project({RangeImageFrame::Optical, std::nullopt});
   EXPECT_EQ(p.points.size(), 8u);
   for (const auto& q : p.points) EXPECT_TRUE(q.allFinite());
 }

@@ -95,7 +95,7 @@ TEST(RangeScan2D, ProjectionSkipsInvalidAndNonFiniteRays) {
   s.T_robot_sensor = Pose3(0.2, 0.1, 0.3, kPi / 2, 0.0, 0.0);
 
   EXPECT_EQ(s.point_ray_indices(), (std::vector<std::size_t>{0, 1, 4}));
-  const auto local = s.points_3d(ScanFrame::kSensor);
+  const auto local = s.points_3d(ScanFrame::Sensor);
   ASSERT_EQ(local.size(), 3u);
   EXPECT_NEAR(local[0].x(), 0.0, 1e-15);
   EXPECT_DOUBLE_EQ(local[0].y(), -1.0);
@@ -106,7 +106,7 @@ TEST(RangeScan2D, ProjectionSkipsInvalidAndNonFiniteRays) {
   for (const auto& p : local) EXPECT_EQ(p.z(), 0.0);
 
   // Robot frame: yaw 90° maps (x, y) to (−y, x), then translate.
-  const auto robot = s.points_3d(ScanFrame::kRobot);
+  const auto robot = s.points_3d(ScanFrame::Robot);
   ASSERT_EQ(robot.size(), 3u);
   EXPECT_NEAR(robot[0].x(), 1.2, 1e-12);
   EXPECT_NEAR(robot[0].y(), 0.1, 1e-12);

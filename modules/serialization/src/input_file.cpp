@@ -32,9 +32,9 @@ std::unique_ptr<InStream> open_input_file(const std::string& path) {
 std::unique_ptr<OutStream> open_output_file(const std::string& path,
                                             FileCompression compression) {
   switch (compression) {
-    case FileCompression::kNone:
+    case FileCompression::None:
       return std::make_unique<FileOutStream>(path);
-    case FileCompression::kGzip:
+    case FileCompression::Gzip:
       return std::make_unique<GzipFileOutStream>(path, 6);
   }
   throw InvalidArgument("open_output_file: unknown FileCompression value");

@@ -84,9 +84,9 @@ TEST(Streams, OpenInputFileDetectsGzipAndPlain) {
   TempDir dir;
   const Sample s = make_sample();
   {
-    auto plain = open_output_file(dir.file("a.bin"), FileCompression::kNone);
+    auto plain = open_output_file(dir.file("a.bin"), FileCompression::None);
     write_sample(*plain, s);
-    auto gz = open_output_file(dir.file("a.bin.gz"), FileCompression::kGzip);
+    auto gz = open_output_file(dir.file("a.bin.gz"), FileCompression::Gzip);
     write_sample(*gz, s);
   }
   EXPECT_FALSE(is_gzip_file(dir.file("a.bin")));

@@ -39,7 +39,7 @@ class Canvas {
  public:
   Canvas(const OccupancyGrid& grid, int k) : grid_(grid), k_(k) {
     GridImageOptions scale;
-    scale.mode = RosMapMode::kScale;  // 255·p(free)
+    scale.mode = RosMapMode::Scale;  // 255·p(free)
     const GrayImage full = grid_to_image(grid, scale);
     img_.width = (full.width + static_cast<std::uint32_t>(k) - 1) / static_cast<std::uint32_t>(k);
     img_.height = (full.height + static_cast<std::uint32_t>(k) - 1) / static_cast<std::uint32_t>(k);

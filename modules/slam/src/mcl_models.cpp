@@ -38,7 +38,7 @@ MotionSampler::MotionSampler(const RobotMovement2D& motion,
                              const std::optional<MotionModelOptions>& model) {
   const MotionModelOptions& m = model ? *model : motion.motion_model;
   const bool own_estimate = !model && motion.estimated_pose_change.has_value();
-  if (!own_estimate && m.model == MotionModel::kThrun) {
+  if (!own_estimate && m.model == MotionModel::Thrun) {
     thrun_.emplace(motion.odometry_increment, m.thrun);
     const Pose2& u = motion.odometry_increment;
     mean_ = SE2d(u.x(), u.y(), u.phi());

@@ -19,8 +19,8 @@ namespace rove {
 
 MapInputKind detect_map_input(const std::string& path) {
   const std::string name = std::filesystem::path(path).filename().string();
-  return name.find(".simplemap") != std::string::npos ? MapInputKind::kSimpleMap
-                                                       : MapInputKind::kRawlog;
+  return name.find(".simplemap") != std::string::npos ? MapInputKind::SimpleMap
+                                                       : MapInputKind::Rawlog;
 }
 
 namespace {
@@ -77,7 +77,7 @@ MapBuildResult build_map(const std::string& path, MetricMap& map, const MapBuild
   const auto t0 = std::chrono::steady_clock::now();
   MapBuildResult r;
   r.input = detect_map_input(path);
-  if (r.input == MapInputKind::kSimpleMap) {
+  if (r.input == MapInputKind::SimpleMap) {
     const SimpleMap sm = load_mrpt_simplemap(path);
     for (const auto& kf : sm.keyframes) {
       const Pose3 T = kf.pose.mean();

@@ -101,7 +101,7 @@ TEST(IcpSlamRun, LogWithoutScansIsAnError_Regression) {
       f << "ODOM " << 0.1 * i << " 0 0 0 0 0 " << i << ".0 host " << i << ".0\n";
     }
   }
-  for (RawlogLayout layout : {RawlogLayout::kActionsSensoryFrames, RawlogLayout::kObservations}) {
+  for (RawlogLayout layout : {RawlogLayout::ActionsSensoryFrames, RawlogLayout::Observations}) {
     IcpSlamConfig cfg =
         load_icp_slam_config(IniFile::load(data_path("icp-slam_demo_classic.ini")));
     IcpSlam slam(cfg.options, std::move(cfg.map));
@@ -110,7 +110,7 @@ TEST(IcpSlamRun, LogWithoutScansIsAnError_Regression) {
     // Layout #1: the reader refuses a CARMEN log that gives no entry (ODOM
     // lines only go between two scans); layout #2: the odometry entries
     // hold nothing to match.
-    if (layout == RawlogLayout::kActionsSensoryFrames) {
+    if (layout == RawlogLayout::ActionsSensoryFrames) {
       EXPECT_THROW(run_icp_slam(slam, odom_only, o), ParseError);
     } else {
       EXPECT_THROW(run_icp_slam(slam, odom_only, o), SelectionError);

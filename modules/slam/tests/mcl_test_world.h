@@ -90,7 +90,7 @@ inline MultiMetricMap room_map(std::uint32_t decimation = 5) {
   creation.max_y = 9.0f;
   creation.resolution = 0.05f;
   GridLikelihoodOptions lik;
-  lik.method = GridLikelihoodMethod::kLikelihoodFieldThrun;
+  lik.method = GridLikelihoodMethod::LikelihoodFieldThrun;
   lik.lf_decimation = decimation;
   lik.lf_std_hit = 0.2f;
   lik.lf_max_corrs_distance = 0.3f;

@@ -56,7 +56,7 @@ void expect_ro_slam_beacons(const std::string& config) {
   MultiMetricMap mm = MultiMetricMap::from_config(ini, "MappingApplication");
   ASSERT_EQ(mm.size(), 1u);
   const MapBuildResult r = build_map(dataset("RO-SLAM_demo.rawlog"), mm);
-  EXPECT_EQ(r.input, MapInputKind::kRawlog);
+  EXPECT_EQ(r.input, MapInputKind::Rawlog);
   EXPECT_EQ(r.keyframes, 100u);
   EXPECT_EQ(r.odometry_steps, 100u);
   EXPECT_EQ(mm.entries()[0].observations_inserted, 100u);
@@ -69,7 +69,7 @@ void expect_ro_slam_beacons(const std::string& config) {
     const Beacon* b = beacons.find(static_cast<std::int32_t>(row[0]));
     if (b == nullptr) continue;  // never ranged in this log
     ++seen;
-    if (b->kind == BeaconPdfKind::kGaussian) ++gaussian;
+    if (b->kind == BeaconPdfKind::Gaussian) ++gaussian;
     const PointGaussian3 g = b->moments();
     const double err = std::hypot(g.mean.x() - row[1], g.mean.y() - row[2]);
     worst = std::max(worst, err);
@@ -136,7 +136,7 @@ TEST(MapBuild, CarmenLogPointsAtOdometryPoses) {
       "t.ini");
   MultiMetricMap mm = MultiMetricMap::from_config(ini, "Map");
   const MapBuildResult r = build_map(log, mm);
-  EXPECT_EQ(r.input, MapInputKind::kRawlog);
+  EXPECT_EQ(r.input, MapInputKind::Rawlog);
   EXPECT_EQ(r.keyframes, 2u);
   EXPECT_EQ(r.odometry_steps, 1u);
   const auto& cloud = dynamic_cast<const PointsMetricMap&>(*mm.entries()[0].map).points().cloud();

@@ -29,7 +29,7 @@ MultiMetricMap build(const std::string& config, const std::string& section) {
   const IniFile ini = IniFile::load(kConfigs + config, IniOptions{.strict = false});
   MultiMetricMap mm = MultiMetricMap::from_config(ini, section);
   const MapBuildResult r = build_map(kSimplemap, mm);
-  EXPECT_EQ(r.input, MapInputKind::kSimpleMap);
+  EXPECT_EQ(r.input, MapInputKind::SimpleMap);
   EXPECT_GT(r.keyframes, 0u);
   return mm;
 }

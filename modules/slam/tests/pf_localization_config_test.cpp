@@ -86,7 +86,7 @@ TEST(PfLocalizationConfig, ReadsMrptDemoUnchanged) {
   const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(c.map.entries()[0].map.get());
   ASSERT_NE(g, nullptr);
   EXPECT_FLOAT_EQ(g->grid().resolution(), 0.06f);
-  EXPECT_EQ(g->likelihood_options.method, GridLikelihoodMethod::kLikelihoodFieldThrun);
+  EXPECT_EQ(g->likelihood_options.method, GridLikelihoodMethod::LikelihoodFieldThrun);
   EXPECT_EQ(g->likelihood_options.lf_decimation, 20u);
   EXPECT_FLOAT_EQ(g->likelihood_options.lf_std_hit, 0.20f);
 }

@@ -207,7 +207,7 @@ TEST(PfLocalizationDemo, ObservationOnlyLayout) {
   }
   const std::string path = ::testing::TempDir() + "pf_localization_obs_only.rrlog";
   RoveRawlogWriterOptions w;
-  w.layout = RawlogLayout::kObservations;
+  w.layout = RawlogLayout::Observations;
   save_rove_rawlog(path, entries, w);
   PfLocalizationRunOptions o;
   o.num_threads = 2;

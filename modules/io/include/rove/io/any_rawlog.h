@@ -28,9 +28,9 @@ namespace rove {
 
 /// The file formats AnyRawlogReader reads.
 enum class RawlogFormat : std::uint8_t {
-  kRove = 0,    ///< rove rawlog (rove_rawlog.h)
-  kMrpt = 1,    ///< MRPT rawlog (rawlog_reader.h)
-  kCarmen = 2,  ///< CARMEN log, converted on the fly (carmen_to_rawlog.h)
+  Rove = 0,    ///< rove rawlog (rove_rawlog.h)
+  Mrpt = 1,    ///< MRPT rawlog (rawlog_reader.h)
+  Carmen = 2,  ///< CARMEN log, converted on the fly (carmen_to_rawlog.h)
 };
 
 /// "rove", "MRPT" or "CARMEN".
@@ -103,9 +103,9 @@ struct AnyRawlog {
   /// The entries in file order.
   std::vector<RawlogEntry> entries;
   /// The layout the entries follow (layout_of).
-  RawlogLayout layout = RawlogLayout::kEmpty;
+  RawlogLayout layout = RawlogLayout::Empty;
   /// The file's format.
-  RawlogFormat format = RawlogFormat::kMrpt;
+  RawlogFormat format = RawlogFormat::Mrpt;
 };
 
 /// Reads every entry of a rove rawlog, MRPT rawlog or CARMEN log.

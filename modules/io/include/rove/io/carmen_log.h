@@ -35,11 +35,11 @@ namespace rove {
 
 /// The CARMEN message types the reader turns into records.
 enum class CarmenMessage : std::uint8_t {
-  kFlaser = 0,       ///< front laser with the odometry pose
-  kRlaser = 1,       ///< rear laser with the odometry pose
-  kOdom = 2,         ///< odometry pose and velocities
-  kRobotLaser1 = 3,  ///< laser with its geometry, remissions and robot state
-  kTruePos = 4,      ///< ground-truth pose (simulators) with odometry
+  Flaser = 0,       ///< front laser with the odometry pose
+  Rlaser = 1,       ///< rear laser with the odometry pose
+  Odom = 2,         ///< odometry pose and velocities
+  RobotLaser1 = 3,  ///< laser with its geometry, remissions and robot state
+  TruePos = 4,      ///< ground-truth pose (simulators) with odometry
 };
 
 /// The message's name as written in a log ("FLASER", "ODOM", ...).
@@ -83,7 +83,7 @@ struct CarmenLogOptions {
 /// ray 0 points at start_angle from the laser's x axis.
 struct CarmenRecord {
   /// The message type.
-  CarmenMessage type = CarmenMessage::kOdom;
+  CarmenMessage type = CarmenMessage::Odom;
   /// 1-based line number in the (decompressed) log.
   std::size_t line = 0;
   /// start_time + logger_timestamp; also set on scan / odometry.

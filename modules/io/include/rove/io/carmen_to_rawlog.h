@@ -37,7 +37,7 @@ namespace rove {
 /// How CARMEN lines become rawlog entries.
 struct CarmenToRawlogOptions {
   /// kActionsSensoryFrames (#1, default) or kObservations (#2).
-  RawlogLayout layout = RawlogLayout::kActionsSensoryFrames;
+  RawlogLayout layout = RawlogLayout::ActionsSensoryFrames;
   /// Motion model stored in the layout #1 actions (default: MRPT's
   /// Gaussian model and default parameters).
   MotionModelOptions motion_model;

@@ -47,8 +47,8 @@ struct ImageLimits {
 
 /// File format of a gray image.
 enum class ImageFormat : std::uint8_t {
-  kPng,  ///< PNG, 8-bit gray
-  kPgm,  ///< PGM binary (P5), maxval 255
+  Png,  ///< PNG, 8-bit gray
+  Pgm,  ///< PGM binary (P5), maxval 255
 };
 
 /// The format named by a file's extension (`.png`, `.pgm`, case-insensitive).

@@ -35,7 +35,7 @@ void load(InArchive& ar, OccupancyGrid16& grid);
 
 /// Writes a grid file. Throws IoError if it cannot be written.
 void save_grid(const std::string& path, const OccupancyGrid& grid,
-               FileCompression compression = FileCompression::kNone);
+               FileCompression compression = FileCompression::None);
 /// Reads an 8-bit grid file (plain or gzip). Throws IoError if it cannot be
 /// opened, ParseError on a bad magic, a bad record or bytes after it.
 OccupancyGrid load_grid(const std::string& path, ArchiveLimits limits = {});

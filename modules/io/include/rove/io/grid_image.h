@@ -41,16 +41,16 @@ namespace rove {
 /// Options of grid_to_image / save_ros_map.
 struct GridImageOptions {
   /// How cells become gray values, written to the yaml as `mode`:
-  /// kTrinary (map_saver: 0 occupied, 254 free, 205 unknown) or kScale
-  /// (round(255·p(free)), the whole probability in 256 levels). kRaw is not
+  /// Trinary (map_saver: 0 occupied, 254 free, 205 unknown) or Scale
+  /// (round(255·p(free)), the whole probability in 256 levels). Raw is not
   /// written (InvalidArgument).
-  RosMapMode mode = RosMapMode::kTrinary;
+  RosMapMode mode = RosMapMode::Trinary;
   /// Occupancy above this is occupied (written to the yaml too).
   double occupied_thresh = 0.65;
   /// Occupancy below this is free (written to the yaml too).
   double free_thresh = 0.196;
   /// Image file format for save_ros_map.
-  ImageFormat format = ImageFormat::kPng;
+  ImageFormat format = ImageFormat::Png;
 };
 
 /// The image of a grid (row 0 = largest y). Precondition (InvalidArgument):

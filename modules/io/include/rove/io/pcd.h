@@ -32,7 +32,7 @@
 namespace rove {
 
 /// Encoding of the point data.
-enum class PcdFormat : std::uint8_t { kAscii, kBinary, kBinaryCompressed };
+enum class PcdFormat : std::uint8_t { Ascii, Binary, BinaryCompressed };
 
 /// One column of a PCD file.
 struct PcdField {
@@ -52,7 +52,7 @@ struct PcdHeader {
   /// Sensor pose: tx ty tz qw qx qy qz (PCL's sensor_origin_/orientation_).
   std::array<double, 7> viewpoint{0, 0, 0, 1, 0, 0, 0};
   std::uint64_t points = 0;  ///< width * height
-  PcdFormat format = PcdFormat::kAscii;
+  PcdFormat format = PcdFormat::Ascii;
 };
 
 /// Reads a PCD file. If `header` is not null it receives the file's header.
@@ -64,7 +64,7 @@ PointCloud read_pcd_from_memory(std::span<const std::uint8_t> data, std::string_
 
 /// Options of write_pcd.
 struct PcdWriteOptions {
-  PcdFormat format = PcdFormat::kBinaryCompressed;
+  PcdFormat format = PcdFormat::BinaryCompressed;
   /// Write each channel the cloud has (colors as PCL's "rgb" F 4 packed
   /// 0x00RRGGBB, "intensity" F 4, "normal_x normal_y normal_z" F 4).
   bool write_colors = true;

@@ -27,7 +27,7 @@
 namespace rove {
 
 /// Encoding of a PLY file.
-enum class PlyFormat : std::uint8_t { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
+enum class PlyFormat : std::uint8_t { Ascii, BinaryLittleEndian, BinaryBigEndian };
 
 /// Reads the vertices of a PLY file. Throws IoError if the file cannot be
 /// read, ParseError if it is malformed.
@@ -37,7 +37,7 @@ PointCloud read_ply_from_memory(std::span<const std::uint8_t> data, std::string_
 
 /// Options of write_ply.
 struct PlyWriteOptions {
-  PlyFormat format = PlyFormat::kBinaryLittleEndian;
+  PlyFormat format = PlyFormat::BinaryLittleEndian;
   bool write_colors = true;     ///< uchar red green blue, if the cloud has colors
   bool write_intensity = true;  ///< float intensity, if the cloud has it
   bool write_normals = true;    ///< float nx ny nz, if the cloud has normals

@@ -75,10 +75,10 @@ class RawlogReader {
 
 /// Which of MRPT's layouts a whole rawlog uses.
 enum class RawlogLayout : std::uint8_t {
-  kEmpty = 0,                ///< no entries
-  kActionsSensoryFrames = 1, ///< layout #1: action collections and sensory frames only
-  kObservations = 2,         ///< layout #2: observations only
-  kMixed = 3,                ///< both kinds of entries
+  Empty = 0,                ///< no entries
+  ActionsSensoryFrames = 1, ///< layout #1: action collections and sensory frames only
+  Observations = 2,         ///< layout #2: observations only
+  Mixed = 3,                ///< both kinds of entries
 };
 
 /// A whole rawlog in memory.
@@ -86,7 +86,7 @@ struct Rawlog {
   /// The entries in file order.
   std::vector<RawlogEntry> entries;
   /// The layout the entries follow.
-  RawlogLayout layout = RawlogLayout::kEmpty;
+  RawlogLayout layout = RawlogLayout::Empty;
 };
 
 /// Reads every entry of the rawlog at `path` (see RawlogReader::next for the

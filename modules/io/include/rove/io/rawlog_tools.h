@@ -35,7 +35,7 @@ using RawlogProgressFn = std::function<void(const AnyRawlogReader&)>;
 /// What a job read, wrote and left out.
 struct RawlogJobResult {
   /// The input's format.
-  RawlogFormat input_format = RawlogFormat::kMrpt;
+  RawlogFormat input_format = RawlogFormat::Mrpt;
   /// Entries read from the input.
   std::uint64_t entries_in = 0;
   /// Entries written to the output rawlog (0 for text exports).

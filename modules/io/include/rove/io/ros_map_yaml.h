@@ -27,9 +27,9 @@ namespace rove {
 
 /// How gray values become cells (map_server's `mode`).
 enum class RosMapMode : unsigned char {
-  kTrinary,  ///< occupied / free / unknown by the thresholds
-  kScale,    ///< between the thresholds: an occupancy of 1 + 98·ratio percent
-  kRaw,      ///< the gray value is the occupancy in percent (0–100), above 100 unknown
+  Trinary,  ///< occupied / free / unknown by the thresholds
+  Scale,    ///< between the thresholds: an occupancy of 1 + 98·ratio percent
+  Raw,      ///< the gray value is the occupancy in percent (0–100), above 100 unknown
 };
 
 /// The contents of a map.yaml.
@@ -40,7 +40,7 @@ struct RosMapYaml {
   bool negate = false;                  ///< white = occupied instead of black
   double occupied_thresh = 0.65;        ///< occupancy above this: occupied
   double free_thresh = 0.196;           ///< occupancy below this: free
-  RosMapMode mode = RosMapMode::kTrinary;
+  RosMapMode mode = RosMapMode::Trinary;
   std::vector<std::string> unknown_keys;///< keys read but not known (ignored)
 };
 

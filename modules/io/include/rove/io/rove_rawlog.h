@@ -56,7 +56,7 @@ using RawlogMetadata = std::map<std::string, std::string>;
 struct RoveRawlogWriterOptions {
   /// The layout declared in the header; write() rejects entries that do not
   /// fit it (InvalidArgument). kEmpty is not allowed. Default: layout #1.
-  RawlogLayout layout = RawlogLayout::kActionsSensoryFrames;
+  RawlogLayout layout = RawlogLayout::ActionsSensoryFrames;
   /// gzip the file (default true); false writes plain bytes.
   bool gzip = true;
   /// gzip level 1 (fastest) .. 9 (smallest). Default 6.
@@ -178,7 +178,7 @@ class RoveRawlogReader {
   std::string path_;
   std::unique_ptr<InStream> stream_;
   std::unique_ptr<InArchive> archive_;
-  RawlogLayout layout_ = RawlogLayout::kEmpty;
+  RawlogLayout layout_ = RawlogLayout::Empty;
   std::uint16_t format_version_ = 0;
   RawlogMetadata metadata_;
   std::uint64_t entries_read_ = 0;
@@ -191,7 +191,7 @@ struct RoveRawlog {
   /// The entries in file order.
   std::vector<RawlogEntry> entries;
   /// The layout declared in the header.
-  RawlogLayout layout = RawlogLayout::kEmpty;
+  RawlogLayout layout = RawlogLayout::Empty;
   /// The header's metadata.
   RawlogMetadata metadata;
 };

@@ -52,9 +52,9 @@ struct BeaconMode {
 
 /// The form of a beacon's position density.
 enum class BeaconPdfKind : std::uint8_t {
-  kMonteCarlo = 0,      ///< weighted samples (MRPT's pdfMonteCarlo)
-  kGaussian = 1,        ///< one Gaussian (pdfGauss)
-  kSumOfGaussians = 2,  ///< weighted Gaussian modes (pdfSOG)
+  MonteCarlo = 0,      ///< weighted samples (MRPT's pdfMonteCarlo)
+  Gaussian = 1,        ///< one Gaussian (pdfGauss)
+  SumOfGaussians = 2,  ///< weighted Gaussian modes (pdfSOG)
 };
 
 /// "montecarlo", "gaussian" or "sog".
@@ -64,7 +64,7 @@ std::string_view to_string(BeaconPdfKind kind) noexcept;
 /// matching `kind` holds the density.
 struct Beacon {
   std::int32_t id = 0;                              ///< the beacon's identifier
-  BeaconPdfKind kind = BeaconPdfKind::kGaussian;   ///< which member below is used
+  BeaconPdfKind kind = BeaconPdfKind::Gaussian;   ///< which member below is used
   std::vector<BeaconSample> samples;                ///< kMonteCarlo
   PointGaussian3 gaussian;                          ///< kGaussian
   std::vector<BeaconMode> modes;                    ///< kSumOfGaussians

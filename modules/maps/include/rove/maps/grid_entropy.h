@@ -14,7 +14,7 @@
 /// MRPT 2.5.8 zeroes the entries of its per-value table at cell values 0
 /// (p = 0.5: unknown) and −1, meant as a guard against rounding at p = 0 and
 /// p = 1; as a result its H leaves out the unknown cells and counts each of
-/// them as one mapped cell of full information. `EntropyTable::kMrpt`
+/// them as one mapped cell of full information. `EntropyTable::Mrpt`
 /// reproduces those numbers (bit for bit on MRPT's grids, tests
 /// `GridEntropy.*`); the default `kExact` uses every cell's own entropy.
 
@@ -26,8 +26,8 @@ namespace rove {
 
 /// Which per-cell entropy table grid_entropy uses (see the file comment).
 enum class EntropyTable {
-  kExact,  ///< h(p) of every cell value
-  kMrpt,   ///< MRPT 2.5.8's table: cell values 0 and −1 have h = 0
+  Exact,  ///< h(p) of every cell value
+  Mrpt,   ///< MRPT 2.5.8's table: cell values 0 and −1 have h = 0
 };
 
 /// Entropy and information of a grid (MRPT's TEntropyInfo).
@@ -50,6 +50,6 @@ struct GridEntropy {
 /// O(cells).
 template <GridCell Cell>
 GridEntropy grid_entropy(const OccupancyGridT<Cell>& grid,
-                         EntropyTable table = EntropyTable::kExact);
+                         EntropyTable table = EntropyTable::Exact);
 
 }  // namespace rove

@@ -91,21 +91,21 @@ struct GridInsertionOptions {
 
 /// What insert_scan did.
 enum class GridInsertStatus : std::uint8_t {
-  kInserted = 0,       ///< the scan was inserted
-  kNotHorizontal = 1,  ///< the sensor's pitch/roll exceed horizontal_tolerance
-  kWrongAltitude = 2,  ///< use_map_altitude and the sensor is off the map plane
+  Inserted = 0,       ///< the scan was inserted
+  NotHorizontal = 1,  ///< the sensor's pitch/roll exceed horizontal_tolerance
+  WrongAltitude = 2,  ///< use_map_altitude and the sensor is off the map plane
 };
 
 /// Result of insert_scan.
 struct GridInsertResult {
   /// Whether the scan was inserted, or why not.
-  GridInsertStatus status = GridInsertStatus::kInserted;
+  GridInsertStatus status = GridInsertStatus::Inserted;
   /// One-line explanation.
   std::string message;
   /// Rays that changed cells (after decimation).
   std::size_t rays_inserted = 0;
   /// True if status is kInserted.
-  bool inserted() const noexcept { return status == GridInsertStatus::kInserted; }
+  bool inserted() const noexcept { return status == GridInsertStatus::Inserted; }
 };
 
 /// Inserts `scan`, taken with the robot at T_map_robot (the scan's own

@@ -59,20 +59,20 @@ namespace rove {
 
 /// MRPT's TLikelihoodMethod, same numbering.
 enum class GridLikelihoodMethod : std::uint8_t {
-  kMeanInformation = 0,       ///< `lmMeanInformation`
-  kRayTracing = 1,            ///< `lmRayTracing`
-  kConsensus = 2,             ///< `lmConsensus`
-  kCellsDifference = 3,       ///< `lmCellsDifference`
-  kLikelihoodFieldThrun = 4,  ///< `lmLikelihoodField_Thrun`
-  kLikelihoodFieldII = 5,     ///< `lmLikelihoodField_II`
-  kConsensusOWA = 6,          ///< `lmConsensusOWA`
+  MeanInformation = 0,       ///< `lmMeanInformation`
+  RayTracing = 1,            ///< `lmRayTracing`
+  Consensus = 2,             ///< `lmConsensus`
+  CellsDifference = 3,       ///< `lmCellsDifference`
+  LikelihoodFieldThrun = 4,  ///< `lmLikelihoodField_Thrun`
+  LikelihoodFieldII = 5,     ///< `lmLikelihoodField_II`
+  ConsensusOWA = 6,          ///< `lmConsensusOWA`
 };
 
 /// Options of the likelihood methods: MRPT's TLikelihoodOptions and
 /// defaults; the INI key of each field is the MRPT name in its comment.
 struct GridLikelihoodOptions {
   /// `likelihoodMethod` (names as MRPT's enum or its number).
-  GridLikelihoodMethod method = GridLikelihoodMethod::kLikelihoodFieldThrun;
+  GridLikelihoodMethod method = GridLikelihoodMethod::LikelihoodFieldThrun;
   /// `LF_stdHit`: σ of the hit model, meters.
   float lf_std_hit = 0.35f;
   /// `LF_zHit`: weight of the hit model.

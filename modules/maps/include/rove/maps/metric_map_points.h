@@ -23,17 +23,17 @@ namespace rove {
 
 /// Which MRPT point-map class a PointsMetricMap stands for.
 enum class PointsMapFlavor : std::uint8_t {
-  kSimple = 0,     ///< CSimplePointsMap ("pointsMap")
-  kColoured = 1,   ///< CColouredPointsMap ("colourPointsMap"): color channel
-  kWeighted = 2,   ///< CWeightedPointsMap ("weightedPointsMap")
-  kIntensity = 3,  ///< CPointsMapXYZI: intensity channel
+  Simple = 0,     ///< CSimplePointsMap ("pointsMap")
+  Coloured = 1,   ///< CColouredPointsMap ("colourPointsMap"): color channel
+  Weighted = 2,   ///< CWeightedPointsMap ("weightedPointsMap")
+  Intensity = 3,  ///< CPointsMapXYZI: intensity channel
 };
 
 /// A point map as a MetricMap. Thread-safety: as PointMap.
 class PointsMetricMap final : public MetricMap {
  public:
   /// An empty map.
-  explicit PointsMetricMap(PointsMapFlavor flavor = PointsMapFlavor::kSimple);
+  explicit PointsMetricMap(PointsMapFlavor flavor = PointsMapFlavor::Simple);
   /// The map (its insertion_options / likelihood_options may be changed).
   PointMap& points() noexcept { return map_; }
   /// As above, const.

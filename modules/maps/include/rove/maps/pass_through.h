@@ -15,7 +15,7 @@
 namespace rove {
 
 /// The field a pass-through filter tests.
-enum class PointField : std::uint8_t { kX, kY, kZ, kIntensity, kNormalX, kNormalY, kNormalZ };
+enum class PointField : std::uint8_t { X, Y, Z, Intensity, NormalX, NormalY, NormalZ };
 
 /// Parses "x", "y", "z", "intensity", "normal_x", "normal_y", "normal_z"
 /// (PCL's field names). Throws InvalidArgument for any other name.
@@ -23,7 +23,7 @@ PointField parse_point_field(std::string_view name);
 
 /// Options of pass_through_filter (PCL's defaults).
 struct PassThroughOptions {
-  PointField field = PointField::kZ;
+  PointField field = PointField::Z;
   float min = -std::numeric_limits<float>::max();  ///< lower limit (inclusive)
   float max = std::numeric_limits<float>::max();   ///< upper limit (inclusive)
   bool negative = false;  ///< keep the points outside [min, max] instead

@@ -44,10 +44,10 @@ struct Rgb8 {
 
 /// Which optional channels a cloud carries (bit set).
 enum class PointChannels : std::uint8_t {
-  kNone = 0,
-  kColor = 1,      ///< Rgb8 per point
-  kIntensity = 2,  ///< float per point (sensor units)
-  kNormal = 4,     ///< unit normal (nx, ny, nz) per point
+  None = 0,
+  Color = 1,      ///< Rgb8 per point
+  Intensity = 2,  ///< float per point (sensor units)
+  Normal = 4,     ///< unit normal (nx, ny, nz) per point
 };
 constexpr PointChannels operator|(PointChannels a, PointChannels b) noexcept {
   return static_cast<PointChannels>(static_cast<std::uint8_t>(a) | static_cast<std::uint8_t>(b));
@@ -95,9 +95,9 @@ class PointCloud {
 
   /// The enabled channels.
   PointChannels channels() const noexcept { return channels_; }
-  bool has_colors() const noexcept { return has_all(channels_, PointChannels::kColor); }
-  bool has_intensity() const noexcept { return has_all(channels_, PointChannels::kIntensity); }
-  bool has_normals() const noexcept { return has_all(channels_, PointChannels::kNormal); }
+  bool has_colors() const noexcept { return has_all(channels_, PointChannels::Color); }
+  bool has_intensity() const noexcept { return has_all(channels_, PointChannels::Intensity); }
+  bool has_normals() const noexcept { return has_all(channels_, PointChannels::Normal); }
   /// Enables the channels in `c` (existing points get default values) and
   /// disables the others.
   void set_channels(PointChannels c);
@@ -154,7 +154,7 @@ class PointCloud {
   std::vector<Rgb8> colors_;
   std::vector<float> intensity_;
   std::vector<Eigen::Vector3f> normals_;
-  PointChannels channels_ = PointChannels::kNone;
+  PointChannels channels_ = PointChannels::None;
 };
 
 }  // namespace rove

@@ -97,7 +97,7 @@ struct PointMapLikelihoodOptions {
 class PointMap {
  public:
   /// An empty map carrying `channels` (kColor: coloured map, kIntensity: XYZI).
-  explicit PointMap(PointChannels channels = PointChannels::kNone);
+  explicit PointMap(PointChannels channels = PointChannels::None);
   /// A map holding `cloud` (its channels included).
   explicit PointMap(PointCloud cloud);
   PointMap(const PointMap& other);

@@ -16,15 +16,15 @@ namespace rove {
 
 /// Fix quality as NMEA GGA field 6 reports it.
 enum class GpsFixQuality : std::uint8_t {
-  kInvalid = 0,        ///< no fix
-  kGps = 1,            ///< standalone GNSS
-  kDgps = 2,           ///< differential
-  kPps = 3,            ///< PPS
-  kRtkFixed = 4,       ///< RTK, integer ambiguities fixed
-  kRtkFloat = 5,       ///< RTK, float ambiguities
-  kDeadReckoning = 6,  ///< estimated
-  kManual = 7,         ///< manual input
-  kSimulation = 8,     ///< simulator
+  Invalid = 0,        ///< no fix
+  Gps = 1,            ///< standalone GNSS
+  Dgps = 2,           ///< differential
+  Pps = 3,            ///< PPS
+  RtkFixed = 4,       ///< RTK, integer ambiguities fixed
+  RtkFloat = 5,       ///< RTK, float ambiguities
+  DeadReckoning = 6,  ///< estimated
+  Manual = 7,         ///< manual input
+  Simulation = 8,     ///< simulator
 };
 
 /// UTC time of day as NMEA sentences give it.
@@ -83,7 +83,7 @@ class GpsObservation final : public ObservationOf<GpsObservation> {
   /// Altitude above mean sea level, meters (GGA's altitude).
   double altitude_m = 0.0;
   /// Fix quality.
-  GpsFixQuality fix_quality = GpsFixQuality::kInvalid;
+  GpsFixQuality fix_quality = GpsFixQuality::Invalid;
   /// Satellites used in the fix.
   std::uint32_t satellites = 0;
   /// Horizontal dilution of precision (dimensionless).

@@ -13,9 +13,9 @@ namespace rove {
 
 /// Type of one channel sample.
 enum class PixelType : std::uint8_t {
-  kU8 = 0,   ///< unsigned 8-bit
-  kU16 = 1,  ///< unsigned 16-bit, little-endian in `data`
-  kF32 = 2,  ///< IEEE float, little-endian in `data`
+  U8 = 0,   ///< unsigned 8-bit
+  U16 = 1,  ///< unsigned 16-bit, little-endian in `data`
+  F32 = 2,  ///< IEEE float, little-endian in `data`
 };
 
 /// Bytes per sample of a PixelType (1, 2 or 4).
@@ -33,7 +33,7 @@ struct Image {
   /// Samples per pixel (1 gray, 3 RGB, 4 RGBA); >= 1 for a non-empty image.
   std::uint32_t channels = 1;
   /// Sample type.
-  PixelType pixel_type = PixelType::kU8;
+  PixelType pixel_type = PixelType::U8;
   /// The samples, width·height·channels·bytes_per_sample bytes.
   std::vector<std::uint8_t> data;
 

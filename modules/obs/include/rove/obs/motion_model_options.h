@@ -93,15 +93,15 @@ struct ThrunMotionOptions {
 
 /// Which motion model RobotMovement2D uses to sample and give its PDF.
 enum class MotionModel : std::uint8_t {
-  kGaussian = 0,  ///< MRPT's mmGaussian
-  kThrun = 1,     ///< MRPT's mmThrun
+  Gaussian = 0,  ///< MRPT's mmGaussian
+  Thrun = 1,     ///< MRPT's mmThrun
 };
 
 /// Both models' parameters and the selected model (MRPT's
 /// TMotionModelOptions).
 struct MotionModelOptions {
   /// The model used (MRPT `modelSelection`, default Gaussian).
-  MotionModel model = MotionModel::kGaussian;
+  MotionModel model = MotionModel::Gaussian;
   /// Gaussian model parameters.
   GaussianMotionOptions gaussian;
   /// Thrun model parameters.

@@ -37,15 +37,15 @@ Pose3 sensor_from_optical();
 
 /// The frame RangeImage3D::project writes points in.
 enum class RangeImageFrame : std::uint8_t {
-  kOptical = 0,  ///< depth camera optical frame (z forward, x right, y down)
-  kSensor = 1,   ///< sensor frame (x forward, y left, z up), MRPT's local points
-  kRobot = 2,    ///< robot frame: T_robot_sensor ⊕ p_sensor
+  Optical = 0,  ///< depth camera optical frame (z forward, x right, y down)
+  Sensor = 1,   ///< sensor frame (x forward, y left, z up), MRPT's local points
+  Robot = 2,    ///< robot frame: T_robot_sensor ⊕ p_sensor
 };
 
 /// Options of RangeImage3D::project.
 struct RangeImageProjectionOptions {
   /// Frame of the output points (default: the robot frame).
-  RangeImageFrame frame = RangeImageFrame::kRobot;
+  RangeImageFrame frame = RangeImageFrame::Robot;
   /// If set (and frame is kRobot), the points are further mapped by this
   /// pose: T_target_robot ⊕ p_robot, e.g. the robot's pose in the world.
   std::optional<Pose3> T_target_robot;
@@ -63,8 +63,8 @@ struct RangeImageProjection {
 
 /// Which light the intensity image records (MRPT's intensityImageChannel).
 enum class IntensityChannel : std::uint8_t {
-  kVisible = 0,   ///< a color or gray camera
-  kInfrared = 1,  ///< the depth sensor's infrared camera
+  Visible = 0,   ///< a color or gray camera
+  Infrared = 1,  ///< the depth sensor's infrared camera
 };
 
 /// 3D points a sensor (or its driver) computed and stored with the image,
@@ -112,7 +112,7 @@ class RangeImage3D final : public ObservationOf<RangeImage3D> {
   /// Default: both cameras coincide, sensor_from_optical().
   Pose3 T_sensor_intensity = sensor_from_optical();
   /// Which light the intensity image records (version 2).
-  IntensityChannel intensity_channel = IntensityChannel::kVisible;
+  IntensityChannel intensity_channel = IntensityChannel::Visible;
   /// A per-pixel confidence image from the sensor, if any (version 2).
   std::optional<Image> confidence;
   /// Points stored with the image, if any (version 2).

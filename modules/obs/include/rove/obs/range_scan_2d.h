@@ -22,8 +22,8 @@ namespace rove {
 
 /// The frame RangeScan2D projects its points into.
 enum class ScanFrame : std::uint8_t {
-  kSensor = 0,  ///< the scanner's own frame (x forward, y left, z up)
-  kRobot = 1,   ///< the robot frame: T_robot_sensor ⊕ p_sensor
+  Sensor = 0,  ///< the scanner's own frame (x forward, y left, z up)
+  Robot = 1,   ///< the robot frame: T_robot_sensor ⊕ p_sensor
 };
 
 /// A planar range scan. Fields are public; the functions that use them
@@ -92,10 +92,10 @@ class RangeScan2D final : public ObservationOf<RangeScan2D> {
   /// sensor frame (z = 0) or the robot frame (T_robot_sensor ⊕ p), meters.
   /// An empty scan gives no points. Preconditions (InvalidArgument): check()
   /// passes and, if any ray yields a point, size() >= 2.
-  std::vector<Eigen::Vector3d> points_3d(ScanFrame frame = ScanFrame::kRobot) const;
+  std::vector<Eigen::Vector3d> points_3d(ScanFrame frame = ScanFrame::Robot) const;
   /// As points_3d, keeping (x, y) only: the planar scan as MRPT's 2D point
   /// maps load it (the sensor's height and tilt are applied, then z dropped).
-  std::vector<Eigen::Vector2d> points_2d(ScanFrame frame = ScanFrame::kRobot) const;
+  std::vector<Eigen::Vector2d> points_2d(ScanFrame frame = ScanFrame::Robot) const;
   /// Indices of the rays that yield points, in the order points_3d lists
   /// them.
   std::vector<std::size_t> point_ray_indices() const;

@@ -34,8 +34,8 @@ void load(InArchive& ar, Twist3& t);
 
 /// How a RobotMovement3D was estimated (MRPT's TEstimationMethod).
 enum class Movement3DSource : std::uint8_t {
-  kOdometry = 0,        ///< wheel/inertial odometry
-  kVisualOdometry = 1,  ///< visual odometry
+  Odometry = 0,        ///< wheel/inertial odometry
+  VisualOdometry = 1,  ///< visual odometry
 };
 
 /// The robot's pose change between two sensory frames, as a Gaussian in the
@@ -49,7 +49,7 @@ class RobotMovement3D final : public Action {
   /// The pose increment with its covariance.
   Pose3Gaussian pose_change;
   /// How the increment was estimated.
-  Movement3DSource source = Movement3DSource::kOdometry;
+  Movement3DSource source = Movement3DSource::Odometry;
   /// The robot's velocity at the end of the motion, if any component is
   /// known; unknown components are NaN (MRPT flags each one).
   std::optional<Twist3> velocity;

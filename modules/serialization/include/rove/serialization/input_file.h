@@ -21,8 +21,8 @@ std::unique_ptr<InStream> open_input_file(const std::string& path);
 
 /// How open_output_file stores data.
 enum class FileCompression {
-  kNone,  ///< plain bytes
-  kGzip,  ///< gzip, level 6
+  None,  ///< plain bytes
+  Gzip,  ///< gzip, level 6
 };
 
 /// Creates (or truncates) `path` for writing with the given compression.

@@ -74,7 +74,7 @@ struct IcpSlamRunResult {
   /// Every processed step, in order.
   std::vector<IcpSlamStep> steps;
   /// The log's format.
-  RawlogFormat format = RawlogFormat::kMrpt;
+  RawlogFormat format = RawlogFormat::Mrpt;
   /// Entries read from the log.
   std::uint64_t entries = 0;
   /// Sum of the steps' processing times, seconds (the mapping loop).

@@ -29,8 +29,8 @@ namespace rove {
 
 /// Where a build takes its input from.
 enum class MapInputKind : std::uint8_t {
-  kRawlog = 0,     ///< MRPT/rove rawlog or CARMEN log, poses from odometry
-  kSimpleMap = 1,  ///< MRPT simplemap, poses stored
+  Rawlog = 0,     ///< MRPT/rove rawlog or CARMEN log, poses from odometry
+  SimpleMap = 1,  ///< MRPT simplemap, poses stored
 };
 
 /// Options of build_map().
@@ -42,7 +42,7 @@ struct MapBuildOptions {
 
 /// What build_map() did.
 struct MapBuildResult {
-  MapInputKind input = MapInputKind::kRawlog;  ///< detected input kind
+  MapInputKind input = MapInputKind::Rawlog;  ///< detected input kind
   std::size_t keyframes = 0;         ///< sensory frames / poses visited
   std::size_t observations = 0;      ///< observations offered to the map
   std::size_t observations_used = 0; ///< of those, inserted by some map

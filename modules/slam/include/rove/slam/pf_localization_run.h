@@ -180,7 +180,7 @@ struct PfLocalizationResult {
   /// Time spent reading the log, seconds.
   double read_seconds = 0.0;
   /// The log's format and entries read.
-  RawlogFormat format = RawlogFormat::kMrpt;
+  RawlogFormat format = RawlogFormat::Mrpt;
   std::uint64_t entries = 0;
   /// The map used (shared: the picture of the outputs draws it).
   std::shared_ptr<const MultiMetricMap> map;
