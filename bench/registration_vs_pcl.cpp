@@ -177,11 +177,11 @@ void BM_rove_gicp(benchmark::State& st) {
     const auto t = rove::PreparedCloud3D::from_cloud(d.gicp_target, po);
     po.neighborhoods = false;  // a source's are never walked
     const auto s = rove::PreparedCloud3D::from_cloud(d.gicp_source, po);
-    r = rove::icp_3d(t, s, Eigen::Isometry3d::Identity(),
+    r = rove::icp_3d(t, s, rove::SE3d(),
                      rove_icp_options(rove::Icp3dMethod::Gicp, po.num_threads));
     benchmark::DoNotOptimize(r);
   }
-  errors(st, r.matrix, d.truth);
+  errors(st, r.T_target_source.matrix(), d.truth);
   st.counters["iterations"] = r.iterations;
 }
 
@@ -196,11 +196,11 @@ void BM_rove_gicp_k10(benchmark::State& st) {
     const auto t = rove::PreparedCloud3D::from_cloud(d.gicp_target, po);
     po.neighborhoods = false;  // a source's are never walked
     const auto s = rove::PreparedCloud3D::from_cloud(d.gicp_source, po);
-    r = rove::icp_3d(t, s, Eigen::Isometry3d::Identity(),
+    r = rove::icp_3d(t, s, rove::SE3d(),
                      rove_icp_options(rove::Icp3dMethod::Gicp, po.num_threads));
     benchmark::DoNotOptimize(r);
   }
-  errors(st, r.matrix, d.truth);
+  errors(st, r.T_target_source.matrix(), d.truth);
   st.counters["iterations"] = r.iterations;
 }
 
@@ -212,10 +212,10 @@ void rove_coarse_to_fine(benchmark::State& st, rove::Icp3dMethod method) {
     o.icp.method = method;
     o.icp.num_threads = static_cast<int>(st.range(0));
     r = rove::icp_3d_multi_resolution(d.full_target.points(), d.full_source.points(),
-                                      Eigen::Isometry3d::Identity(), o);
+                                      rove::SE3d(), o);
     benchmark::DoNotOptimize(r);
   }
-  errors(st, r.result.matrix, d.truth);
+  errors(st, r.result.T_target_source.matrix(), d.truth);
   st.counters["iterations"] = r.total_iterations;
 }
 
@@ -256,11 +256,11 @@ void BM_rove_icp(benchmark::State& st) {
   for (auto _ : st) {
     const auto t = rove::PreparedCloud3D::from_cloud(d.gicp_target);
     const auto s = rove::PreparedCloud3D::from_cloud(d.gicp_source);
-    r = rove::icp_3d(t, s, Eigen::Isometry3d::Identity(),
+    r = rove::icp_3d(t, s, rove::SE3d(),
                      rove_icp_options(rove::Icp3dMethod::PointToPoint, static_cast<int>(st.range(0))));
     benchmark::DoNotOptimize(r);
   }
-  errors(st, r.matrix, d.truth);
+  errors(st, r.T_target_source.matrix(), d.truth);
   st.counters["iterations"] = r.iterations;
 }
 
@@ -303,11 +303,11 @@ void BM_rove_point_to_plane(benchmark::State& st) {
     po.num_threads = static_cast<int>(st.range(0));
     const auto t = rove::PreparedCloud3D::from_cloud(d.gicp_target, po);
     const auto s = rove::PreparedCloud3D::from_cloud(d.gicp_source);
-    r = rove::icp_3d(t, s, Eigen::Isometry3d::Identity(),
+    r = rove::icp_3d(t, s, rove::SE3d(),
                      rove_icp_options(rove::Icp3dMethod::PointToPlane, po.num_threads));
     benchmark::DoNotOptimize(r);
   }
-  errors(st, r.matrix, d.truth);
+  errors(st, r.T_target_source.matrix(), d.truth);
   st.counters["iterations"] = r.iterations;
 }
 
@@ -321,11 +321,11 @@ void BM_rove_point_to_plane_k10(benchmark::State& st) {
     po.num_threads = static_cast<int>(st.range(0));
     const auto t = rove::PreparedCloud3D::from_cloud(d.gicp_target, po);
     const auto s = rove::PreparedCloud3D::from_cloud(d.gicp_source);
-    r = rove::icp_3d(t, s, Eigen::Isometry3d::Identity(),
+    r = rove::icp_3d(t, s, rove::SE3d(),
                      rove_icp_options(rove::Icp3dMethod::PointToPlane, po.num_threads));
     benchmark::DoNotOptimize(r);
   }
-  errors(st, r.matrix, d.truth);
+  errors(st, r.T_target_source.matrix(), d.truth);
   st.counters["iterations"] = r.iterations;
 }
 
@@ -368,10 +368,10 @@ void BM_rove_ndt(benchmark::State& st) {
     o.step_size = 0.1;
     o.max_iterations = 35;
     o.num_threads = static_cast<int>(st.range(0));
-    r = rove::ndt_3d(grid, d.ndt_source, ndt_guess(), o);
+    r = rove::ndt_3d(grid, d.ndt_source, rove::SE3d(ndt_guess().matrix()), o);
     benchmark::DoNotOptimize(r);
   }
-  errors(st, r.matrix, d.pcl_ndt_T);
+  errors(st, r.T_target_source.matrix(), d.pcl_ndt_T);
   st.counters["iterations"] = r.iterations;
 }
 

@@ -26,6 +26,7 @@
 #include "rove/io/pcd.h"
 #include "rove/io/ply.h"
 #include "rove/maps/voxel_grid.h"
+#include "rove/poses/lie_conversion.h"
 #include "rove/registration/icp_3d.h"
 #include "rove/registration/icp_3d_multi_resolution.h"
 #include "rove/registration/ndt.h"
@@ -81,16 +82,10 @@ std::optional<std::vector<double>> parse_voxels(const std::string& text) {
 }
 
 /// --init as a transform (the command line's pose convention, cli_values.h).
-Eigen::Isometry3d parse_init(const std::string& text) {
-  const Pose3 p = parse_cli_pose3(text, "--init");
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = p.rotation();
-  T.translation() = p.translation();
-  return T;
-}
+SE3d parse_init(const std::string& text) { return to_se3(parse_cli_pose3(text, "--init")); }
 
 /// A 4×4 matrix of 16 numbers (rows), e.g. small_gicp's T_target_source.txt.
-Eigen::Isometry3d read_init_file(const std::string& path) {
+SE3d read_init_file(const std::string& path) {
   std::istringstream in(read_input_file(path, 1 << 20, "--init-file"));
   Eigen::Matrix4d M;
   for (int i = 0; i < 16; ++i) {
@@ -102,10 +97,7 @@ Eigen::Isometry3d read_init_file(const std::string& path) {
   if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-4 ||
       R.determinant() < 0 || M.row(3).cwiseAbs().sum() != 1.0 || M(3, 3) != 1.0)
     throw ParseError({path, std::nullopt, std::nullopt, "T"}, "not a rigid 4x4 transform");
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(R).normalized().toRotationMatrix();
-  T.translation() = M.topRightCorner<3, 1>();
-  return T;
+  return SE3d(Eigen::Quaterniond(R).normalized(), Eigen::Vector3d(M.topRightCorner<3, 1>()));
 }
 
 /// The issue code of a termination that is not Converged.
@@ -132,7 +124,7 @@ void run(const AlignOptions& o) {
   // Everything the command line names is checked before any work.
   const int threads = resolve_thread_count(o.threads, "--threads");
   std::optional<std::vector<double>> voxels = parse_voxels(o.voxel);
-  Eigen::Isometry3d init = Eigen::Isometry3d::Identity();
+  SE3d init;
   if (!o.init.empty()) init = parse_init(o.init);
   std::vector<std::filesystem::path> inputs{o.source, o.target};
   if (!o.init_file.empty()) inputs.emplace_back(o.init_file);
@@ -186,7 +178,7 @@ void run(const AlignOptions& o) {
     if (o.max_iterations > 0) no.max_iterations = o.max_iterations;
     iteration_cap = no.max_iterations;
     const auto r = ndt_3d(grid, source.points(), init, no);
-    T = r.matrix;
+    T = r.T_target_source.matrix();
     fitness = r.fitness;
     goodness = r.goodness;
     iterations = r.iterations;
@@ -221,7 +213,7 @@ void run(const AlignOptions& o) {
     const auto rr = icp_3d_multi_resolution(target_full.points(), source_full.points(), init, mo);
     for (const auto& level : rr.levels) level_messages.push_back(level.message);
     const auto& r = rr.result;
-    T = r.matrix;
+    T = r.T_target_source.matrix();
     fitness = r.fitness;
     goodness = r.goodness;
     iterations = rr.total_iterations;

@@ -33,10 +33,10 @@ int main(int argc, char** argv) {
 
   rove::Icp3dMultiResolutionOptions options;  // GICP, voxels {0.25, 0.1}
   options.icp.num_threads = 2;
-  const auto run = rove::icp_3d_multi_resolution(target.points(), source, Eigen::Isometry3d::Identity(), options);
+  const auto run = rove::icp_3d_multi_resolution(target.points(), source, rove::SE3d(), options);
   const rove::Icp3dResult& r = run.result;
 
-  const Eigen::Isometry3d estimate(r.matrix);
+  const Eigen::Isometry3d estimate(r.T_target_source.matrix());
   const Eigen::Isometry3d error = truth.inverse() * estimate;
   const double translation_error = error.translation().norm();
   const double rotation_error_deg = Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI;

@@ -50,25 +50,16 @@ std::unique_ptr<MetricMap> make_beacon_map(const IniFile& ini, const std::string
   return m;
 }
 
-std::unique_ptr<MetricMap> make_landmark_map(const IniFile& ini, const std::string& p,
-                                             std::vector<IgnoredConfigKey>* ign) {
+/// A map built from its _creationOpts, _insertOpts and _likelihoodOpts
+/// sections (the creation section is checked by create_metric_map, which
+/// also reads the generic keys from it).
+template <class Map, class Creation, class Insert, class Likelihood>
+std::unique_ptr<MetricMap> make_created_map(const IniFile& ini, const std::string& p,
+                                            std::vector<IgnoredConfigKey>* ign) {
   ConfigSection cs(ini, p + "_creationOpts", ign), is(ini, p + "_insertOpts", ign),
       ls(ini, p + "_likelihoodOpts", ign);
-  auto m = std::make_unique<LandmarkMap>(LandmarkMapCreationOptions::from_config(cs),
-                                         LandmarkMapInsertOptions::from_config(is),
-                                         LandmarkMapLikelihoodOptions::from_config(ls));
-  is.check_all_read();
-  ls.check_all_read();
-  return m;
-}
-
-std::unique_ptr<MetricMap> make_height_map(const IniFile& ini, const std::string& p,
-                                           std::vector<IgnoredConfigKey>* ign) {
-  ConfigSection cs(ini, p + "_creationOpts", ign), is(ini, p + "_insertOpts", ign),
-      ls(ini, p + "_likelihoodOpts", ign);
-  auto m = std::make_unique<HeightMap>(HeightMapCreationOptions::from_config(cs),
-                                       HeightMapInsertOptions::from_config(is),
-                                       HeightMapLikelihoodOptions::from_config(ls));
+  auto m = std::make_unique<Map>(Creation::from_config(cs), Insert::from_config(is),
+                                 Likelihood::from_config(ls));
   is.check_all_read();
   ls.check_all_read();
   return m;
@@ -102,10 +93,12 @@ const std::vector<KindInfo>& kinds() {
       {"beaconMap", {"mrpt::maps::CBeaconMap", "CBeaconMap", "beaconMap"}, make_beacon_map},
       {"landmarksMap",
        {"mrpt::maps::CLandmarksMap", "CLandmarksMap", "landmarksMap"},
-       make_landmark_map},
+       make_created_map<LandmarkMap, LandmarkMapCreationOptions, LandmarkMapInsertOptions,
+                        LandmarkMapLikelihoodOptions>},
       {"heightMap",
        {"mrpt::maps::CHeightGridMap2D", "CHeightGridMap2D", "heightMap", "dem"},
-       make_height_map},
+       make_created_map<HeightMap, HeightMapCreationOptions, HeightMapInsertOptions,
+                        HeightMapLikelihoodOptions>},
       // Registered by MRPT 2.5.8, not implemented in rove.
       {"gasGrid",
        {"mrpt::maps::CGasConcentrationGridMap2D", "CGasConcentrationGridMap2D", "gasGrid"},

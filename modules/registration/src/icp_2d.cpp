@@ -17,6 +17,7 @@
 #include "rove/poses/angle.h"
 #include "rove/core/parallel.h"
 #include "rove/registration/degeneracy.h"
+#include "rove/poses/lie_conversion.h"
 #include "rove/registration/pose_covariance.h"
 #include "rove/registration/rigid_transform.h"
 #include "icp_2d_internal.h"
@@ -547,12 +548,7 @@ void set_termination(const Icp2dOptions& o, const IcpLoop& run, bool degenerate,
 }  // namespace
 
 Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
-                   const Pose2Gaussian& initial_T_target_source, const Icp2dOptions& options) {
-  return icp_2d(target, source, initial_T_target_source.mean(), options);
-}
-
-Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
-                   const Pose2& initial, const Icp2dOptions& options) {
+                   const SE2d& initial_T_target_source, const Icp2dOptions& options) {
   options.check();
   ROVE_CHECK_MSG(target.arithmetic() == options.arithmetic,
                  "the IcpTarget2D was built for arithmetic '{}' but the ICP runs in '{}': set "
@@ -567,8 +563,10 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
                  "normal_neighbors > 0");
   ROVE_CHECK_MSG(source.size() < std::numeric_limits<std::uint32_t>::max(),
                  "at most 2^32-1 source points, got {}", source.size());
+  // MRPT's ICP iterates on (x, y, phi); its arithmetic mode needs exactly that.
+  const Pose2 initial = to_pose2(initial_T_target_source);
   Icp2dResult res;
-  res.T_target_source = Pose2Gaussian(initial);
+  res.T_target_source = initial_T_target_source;
   res.conditioning = std::numeric_limits<double>::quiet_NaN();
   const std::size_t finite =
       std::count_if(source.begin(), source.end(), [](const auto& p) { return p.allFinite(); });
@@ -595,7 +593,7 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
   double sse = 0;
   for (const auto& p : pairs) sse += p.sq_dist;
   res.fitness = pairs.empty() ? 0.0 : sse / static_cast<double>(pairs.size());
-  res.T_target_source = Pose2Gaussian(run.pose);
+  res.T_target_source = to_se2(run.pose);
   if (run.diverged) {
     res.termination = RegistrationTermination::Diverged;
     res.message = fmt::format("the pose update became non-finite or unbounded at iteration {}",
@@ -618,7 +616,7 @@ Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> s
     });
     cov = covariance_from_information<3>(ne.H, o.covariance_var_points, 1e-12);
   }
-  res.T_target_source = Pose2Gaussian(detail::kUnchecked, run.pose, cov);
+  res.covariance = xyphi_to_right_tangent_covariance(run.pose, cov);
 
   bool degenerate = false;
   if (o.degeneracy_threshold > 0) {

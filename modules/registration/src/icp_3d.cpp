@@ -13,7 +13,6 @@
 #include "rove/registration/degeneracy.h"
 #include "rove/core/parallel.h"
 #include "rove/registration/pose_covariance.h"
-#include "initial_guess.h"
 
 namespace rove {
 
@@ -431,9 +430,8 @@ void find_pairs(const PreparedCloud3D& target, const PreparedCloud3D& source,
 }  // namespace
 
 Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
-                   const Eigen::Isometry3d& initial, const Icp3dOptions& o) {
+                   const SE3d& initial, const Icp3dOptions& o) {
   o.check();
-  detail::check_rigid_initial(initial);
   ROVE_CHECK_MSG(o.method != Icp3dMethod::PointToPlane || target.has_normals() || target.empty(),
                  "point-to-plane ICP needs target normals (PrepareOptions::normals)");
   ROVE_CHECK_MSG(o.method != Icp3dMethod::Gicp ||
@@ -442,23 +440,14 @@ Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
                  "GICP needs covariances on both clouds (PrepareOptions::covariances)");
   Icp3dResult res;
   res.conditioning = std::numeric_limits<double>::quiet_NaN();
-  Eigen::Isometry3d T = initial;
+  Eigen::Isometry3d T(initial.matrix());
   auto finish_pose = [&](const Mat6* H, double scale) {
-    res.matrix = T.matrix();
-    const Pose3 mean(T.linear(), T.translation(), 1e-6);
-    if (!H) {
-      res.T_target_source = Pose3Gaussian(mean);
-      return;
-    }
+    // Re-orthonormalized: the products of many small steps drift off SO(3).
+    res.T_target_source =
+        SE3d(Eigen::Quaterniond(T.linear()).normalized(), Eigen::Vector3d(T.translation()));
+    if (!H) return;
     res.information = *H;
-    const Mat6 C_right = covariance_from_information<6>(*H, scale, 1e-12);
-    Mat6 right_to_left = Mat6::Zero();  // T·exp(δ) ≈ (exp([Rω]ₓ)R, t + Rρ)
-    right_to_left.topLeftCorner<3, 3>() = T.linear();
-    right_to_left.bottomRightCorner<3, 3>() = T.linear();
-    const Mat6 J = ypr_jacobian_wrt_left_tangent(mean) * right_to_left;
-    Mat6 C = J * C_right * J.transpose();
-    C = 0.5 * (C + C.transpose());
-    res.T_target_source = Pose3Gaussian(detail::kUnchecked, mean, C);
+    res.covariance = covariance_from_information<6>(*H, scale, 1e-12);
   };
   if (target.empty() || source.empty()) {
     finish_pose(nullptr, 1);

@@ -41,11 +41,11 @@ std::vector<Eigen::Vector3f> level_points(std::span<const Eigen::Vector3f> point
 
 Icp3dMultiResolutionResult icp_3d_multi_resolution(std::span<const Eigen::Vector3f> target,
                                                    std::span<const Eigen::Vector3f> source,
-                                                   const Eigen::Isometry3d& initial,
+                                                   const SE3d& initial,
                                                    const Icp3dMultiResolutionOptions& o) {
   o.check();
   Icp3dMultiResolutionResult out;
-  Eigen::Isometry3d T = initial;
+  SE3d T = initial;
   PrepareOptions target_prep;
   target_prep.neighbors = o.neighbors;
   target_prep.gicp_epsilon = o.gicp_epsilon;
@@ -74,9 +74,7 @@ Icp3dMultiResolutionResult icp_3d_multi_resolution(std::span<const Eigen::Vector
                        r.termination == RegistrationTermination::MaxIterations ||
                        r.termination == RegistrationTermination::Stalled;
     if (!go_on) break;
-    T = Eigen::Isometry3d(r.matrix);
-    // Re-orthonormalize: the next level checks rigidity to 1e-6.
-    T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
+    T = r.T_target_source;
   }
   out.result = out.levels.back();
   return out;

@@ -17,7 +17,6 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
-#include "initial_guess.h"
 #include "ndt_solver.h"
 #include "rove/core/check.h"
 #include "rove/poses/lie_conversion.h"
@@ -208,39 +207,27 @@ void copy_report(const detail::NdtSolution<M>& solution, Result& res) {
 }  // namespace
 
 Ndt3dResult ndt_3d(const NdtGrid3D& target, std::span<const Eigen::Vector3f> source,
-                   const Eigen::Isometry3d& initial, const NdtOptions& o) {
+                   const SE3d& T0, const NdtOptions& o) {
   o.check();
-  detail::check_rigid_initial(initial);
-  const SE3d T0(Eigen::Quaterniond(initial.linear()).normalized(), initial.translation());
   const detail::NdtSolution<detail::NdtSe3> s =
       o.compat == NdtCompat::Pcl ? detail::ndt_pcl_3d(target, source, T0, o)
                                  : detail::ndt_solve<detail::NdtSe3>(target, source, T0, o, false);
   Ndt3dResult res;
-  res.matrix = s.state.matrix();
-  const Pose3 mean = to_pose3(s.state);
-  res.T_target_source = s.report.has_covariance
-                            ? Pose3Gaussian(detail::kUnchecked, mean,
-                                            right_tangent_to_ypr_covariance(s.state,
-                                                                            s.report.covariance))
-                            : Pose3Gaussian(mean);
+  res.T_target_source = s.state;
+  if (s.report.has_covariance) res.covariance = s.report.covariance;
   copy_report(s, res);
   return res;
 }
 
 Ndt2dResult ndt_2d(const NdtGrid2D& target, std::span<const Eigen::Vector2f> source,
-                   const Pose2& initial, const NdtOptions& o) {
+                   const SE2d& T0, const NdtOptions& o) {
   o.check();
-  const SE2d T0 = to_se2(initial);
   const detail::NdtSolution<detail::NdtSe2> s =
       o.compat == NdtCompat::Pcl ? detail::ndt_pcl_2d(target, source, T0, o)
                                  : detail::ndt_solve<detail::NdtSe2>(target, source, T0, o, false);
   Ndt2dResult res;
-  const Pose2 mean = to_pose2(s.state);
-  res.T_target_source =
-      s.report.has_covariance
-          ? Pose2Gaussian(detail::kUnchecked, mean,
-                          right_tangent_to_xyphi_covariance(s.state, s.report.covariance))
-          : Pose2Gaussian(mean);
+  res.T_target_source = s.state;
+  if (s.report.has_covariance) res.covariance = s.report.covariance;
   copy_report(s, res);
   return res;
 }

@@ -42,17 +42,4 @@ template Eigen::Matrix<double, 3, 3> covariance_from_information<3>(const Eigen:
 template Eigen::Matrix<double, 6, 6> covariance_from_information<6>(
     const Eigen::Matrix<double, 6, 6>&, double, double, int*);
 
-Eigen::Matrix<double, 6, 6> ypr_jacobian_wrt_left_tangent(const Pose3& pose) {
-  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
-  J.topLeftCorner<3, 3>().setIdentity();
-  const Eigen::Matrix3d E = ypr_rate_to_omega(pose.yaw(), pose.pitch());
-  if (std::abs(std::cos(pose.pitch())) >= 1e-9) {
-    J.bottomRightCorner<3, 3>() = E.inverse();
-  } else {
-    J.bottomRightCorner<3, 3>() =
-        E.jacobiSvd(Eigen::ComputeFullU | Eigen::ComputeFullV).solve(Eigen::Matrix3d::Identity());
-  }
-  return J;
-}
-
 }  // namespace rove

@@ -9,6 +9,7 @@
 
 #include "rove/core/check.h"
 #include "rove/poses/angle.h"
+#include "rove/poses/lie_conversion.h"
 #include "rove/registration/rigid_transform.h"
 
 namespace rove {
@@ -88,14 +89,15 @@ RansacRigid2dResult ransac_rigid_2d(std::span<const Eigen::Vector2d> target,
     for (std::size_t m = 1; m < n && set.size() < options.max_set_size; ++m) {
       if (m == next) continue;
       const std::uint32_t k = order[m];
-      const Pose2& T = fit.T_target_source.mean();
+      const Pose2 T = to_pose2(fit.T_target_source);
       const double c = std::cos(T.phi()), s = std::sin(T.phi());
       const Eigen::Vector2d rs(c * source[k].x() - s * source[k].y(),
                                s * source[k].x() + c * source[k].y());
       const Eigen::Vector2d d = target[k] - (rs + T.translation());
       Eigen::Matrix<double, 2, 3> J;
       J << 1, 0, -rs.y(), 0, 1, rs.x();
-      const Eigen::Matrix2d S = J * fit.T_target_source.covariance() * J.transpose() +
+      const Eigen::Matrix3d C = right_tangent_to_xyphi_covariance(fit.T_target_source, fit.covariance);
+      const Eigen::Matrix2d S = J * C * J.transpose() +
                                 2 * sigma2 * Eigen::Matrix2d::Identity();
       const double maha2 = d.dot(S.ldlt().solve(d));
       if (!(maha2 < options.mahalanobis_threshold * options.mahalanobis_threshold)) continue;
@@ -111,7 +113,7 @@ RansacRigid2dResult ransac_rigid_2d(std::span<const Eigen::Vector2d> target,
         same = mode.pairs == set;
       } else {
         const Pose2& a = mode.g.mean();
-        const Pose2& b = fit.T_target_source.mean();
+        const Pose2 b = to_pose2(fit.T_target_source);
         same = std::abs(a.x() - b.x()) <= options.fuse_max_diff_xy &&
                std::abs(a.y() - b.y()) <= options.fuse_max_diff_xy &&
                std::abs(wrap_to_pi(a.phi() - b.phi())) <= options.fuse_max_diff_phi;
@@ -122,7 +124,7 @@ RansacRigid2dResult ransac_rigid_2d(std::span<const Eigen::Vector2d> target,
         break;
       }
     }
-    if (!fused) modes.push_back({fit.T_target_source, set, 1.0});
+    if (!fused) modes.push_back({to_pose2_gaussian(fit.T_target_source, fit.covariance), set, 1.0});
   }
   if (modes.empty()) {
     result.termination = RegistrationTermination::Degenerate;

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "rove/core/check.h"
+#include "rove/poses/lie_conversion.h"
 #include "rove/registration/pose_covariance.h"
 #include "rigid_fit_internal.h"
 
@@ -117,7 +118,8 @@ RigidFit2Result fit_rigid_2d(std::span<const Eigen::Vector2d> target,
                                        &n_free);
     n_free = std::max(n_free, 1);
   }
-  r.T_target_source = Pose2Gaussian(mean, C);
+  r.T_target_source = to_se2(mean);
+  r.covariance = xyphi_to_right_tangent_covariance(mean, C);
   if (n_free > 0 || L <= 0) {
     r.termination = RegistrationTermination::Degenerate;
     r.message = "the source points coincide: the rotation is unconstrained";
@@ -152,7 +154,6 @@ RigidFit3Result fit_rigid_3d(std::span<const Eigen::Vector3d> target,
   // Re-orthonormalize through a quaternion so Pose3 accepts it at 1e-6.
   R = Eigen::Quaterniond(R).normalized().toRotationMatrix();
   const Eigen::Vector3d t = ct - R * cs;
-  const Pose3 mean(R, t);
 
   // Information in the left tangent (δt, δω): J = [I | −[R·s]ₓ].
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
@@ -182,10 +183,13 @@ RigidFit3Result fit_rigid_3d(std::span<const Eigen::Vector3d> target,
                                        &n_free);
     n_free = std::max(n_free, 3);
   }
-  const Eigen::Matrix<double, 6, 6> Jp = ypr_jacobian_wrt_left_tangent(mean);
-  Eigen::Matrix<double, 6, 6> Cp = Jp * C * Jp.transpose();
-  Cp = 0.5 * (Cp + Cp.transpose());
-  r.T_target_source = Pose3Gaussian(detail::kUnchecked, mean, Cp);
+  // Left (δt, δω) to right (ρ, ω) tangent: δt = R·ρ, δω = R·ω.
+  Eigen::Matrix<double, 6, 6> Rt = Eigen::Matrix<double, 6, 6>::Zero();
+  Rt.topLeftCorner<3, 3>() = R.transpose();
+  Rt.bottomRightCorner<3, 3>() = R.transpose();
+  Eigen::Matrix<double, 6, 6> Cr = Rt * C * Rt.transpose();
+  r.T_target_source = SE3d(R, t);
+  r.covariance = 0.5 * (Cr + Cr.transpose());
   if (n_free > 0) {
     r.termination = RegistrationTermination::Degenerate;
     r.message = fmt::format(

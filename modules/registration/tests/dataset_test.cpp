@@ -58,11 +58,11 @@ TEST(SmallGicpDatasets, GicpAndPointToPlane) {
     o.icp.method = method;
     o.icp.num_threads = 2;
     const auto r = icp_3d_multi_resolution(target.points(), source.points(),
-                                           Eigen::Isometry3d::Identity(), o);
+                                           SE3d(), o);
     SCOPED_TRACE(static_cast<int>(method));
     ASSERT_EQ(r.levels.size(), 2u);
     ASSERT_EQ(r.result.termination, RegistrationTermination::Converged) << r.result.message;
-    const auto [et, er] = test::pose_error(r.result.matrix, truth);
+    const auto [et, er] = test::pose_error(r.result.T_target_source.matrix(), truth);
     EXPECT_LT(et, 0.02) << "translation error, m";
     EXPECT_LT(er, 0.2 * M_PI / 180) << "rotation error, rad";
     EXPECT_GT(r.result.goodness, 0.8);
@@ -87,10 +87,10 @@ TEST(SmallGicpDatasets, SingleLevelWithTenNeighbours) {
     o.distance_factor = 4;
     o.icp.method = method;
     const auto r = icp_3d_multi_resolution(target.points(), source.points(),
-                                           Eigen::Isometry3d::Identity(), o);
+                                           SE3d(), o);
     SCOPED_TRACE(static_cast<int>(method));
     ASSERT_EQ(r.result.termination, RegistrationTermination::Converged) << r.result.message;
-    const auto [et, er] = test::pose_error(r.result.matrix, truth);
+    const auto [et, er] = test::pose_error(r.result.T_target_source.matrix(), truth);
     EXPECT_LT(et, method == Icp3dMethod::Gicp ? 0.0095 : 0.027) << "translation error, m";
     EXPECT_LT(er, (method == Icp3dMethod::Gicp ? 0.5 : 0.3) * M_PI / 180) << "rotation error, rad";
   }
@@ -118,9 +118,9 @@ TEST(SmallGicpDatasets, PairingByNeighbourhoodsEqualsTreeSearch) {
     Icp3dOptions o;
     o.method = Icp3dMethod::PointToPoint;
     o.max_iterations = 30;
-    const auto a = icp_3d(bare_target, src, start, o);
-    const auto b = icp_3d(walk_target, src, start, o);
-    EXPECT_EQ(a.matrix, b.matrix);
+    const auto a = icp_3d(bare_target, src, SE3d(start.matrix()), o);
+    const auto b = icp_3d(walk_target, src, SE3d(start.matrix()), o);
+    EXPECT_EQ(a.T_target_source.matrix(), b.T_target_source.matrix());
     EXPECT_EQ(a.iterations, b.iterations);
     EXPECT_EQ(a.correspondences, b.correspondences);
     EXPECT_EQ(a.information, b.information);
@@ -172,11 +172,11 @@ TEST(NdtPclCompat, TutorialPairMatchesPcl) {
   o.step_size = 0.1;
   o.max_iterations = 35;
   o.num_threads = 2;
-  const auto r = ndt_3d(pair.grid, pair.source, pair.guess, o);
+  const auto r = ndt_3d(pair.grid, pair.source, SE3d(pair.guess.matrix()), o);
   EXPECT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
   EXPECT_EQ(r.iterations, pcl_iterations);
-  const auto [et, er] = test::pose_error(r.matrix, pcl_T);
-  EXPECT_LT(et, 0.005) << "translation difference to PCL, m\n" << r.matrix << "\nPCL\n" << pcl_T;
+  const auto [et, er] = test::pose_error(r.T_target_source.matrix(), pcl_T);
+  EXPECT_LT(et, 0.005) << "translation difference to PCL, m\n" << r.T_target_source.matrix() << "\nPCL\n" << pcl_T;
   EXPECT_LT(er, 0.05 * M_PI / 180) << "rotation difference to PCL, rad";
 }
 
@@ -191,10 +191,10 @@ TEST(NdtRoomPair, DefaultRunsPastPclsFirstStep) {
   p.compat = NdtCompat::Pcl;
   p.transformation_epsilon = 0.01;
   p.num_threads = 2;
-  const auto r = ndt_3d(pair.grid, pair.source, pair.guess, p);
+  const auto r = ndt_3d(pair.grid, pair.source, SE3d(pair.guess.matrix()), p);
   NdtOptions d;
   d.num_threads = 2;
-  const auto h = ndt_3d(pair.grid, pair.source, pair.guess, d);
+  const auto h = ndt_3d(pair.grid, pair.source, SE3d(pair.guess.matrix()), d);
   EXPECT_GT(h.iterations, 1) << h.message;
   if (h.ok()) {
     EXPECT_LE(h.iterations, d.max_iterations);
@@ -205,7 +205,7 @@ TEST(NdtRoomPair, DefaultRunsPastPclsFirstStep) {
         << h.message;
   }
   EXPECT_GT(h.transformation_probability, r.transformation_probability) << h.message;
-  const auto [et, er] = test::pose_error(h.matrix, r.matrix);
+  const auto [et, er] = test::pose_error(h.T_target_source.matrix(), r.T_target_source.matrix());
   std::printf("tutorial pair, default: %d iterations, %.3f m / %.2f° from PCL's one-step answer\n",
               h.iterations, et, er * 180 / M_PI);
 }

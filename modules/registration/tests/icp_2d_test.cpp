@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "rove/core/error.h"
+#include "rove/poses/lie_conversion.h"
 #include "rove/core/ini.h"
 #include "rove/poses/angle.h"
 
@@ -84,16 +85,16 @@ TEST(Icp2d, ClassicRecoversKnownPoseInARoom) {
   const Pose2 truth(0.2, -0.15, deg_to_rad(4));
   const auto scan = as_seen_from(room(0.1), truth, 0.0, 1);
   const IcpTarget2D target(map);
-  const auto r = icp_2d(target, scan, Pose2(), accurate_options());
+  const auto r = icp_2d(target, scan, SE2d(), accurate_options());
   ASSERT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
   // Point-to-point pairs slide along walls sampled at 10 cm: sub-centimeter.
-  expect_pose_near(r.T_target_source.mean(), truth, 0.01, deg_to_rad(0.3));
+  expect_pose_near(to_pose2(r.T_target_source), truth, 0.01, deg_to_rad(0.3));
   EXPECT_GT(r.goodness, 0.9);
   EXPECT_LT(r.fitness, 1e-4);
   EXPECT_GT(r.conditioning, 0.05);
   // Covariance: positive definite and small for 500+ pairs at σ = 2 cm.
-  EXPECT_GT(r.T_target_source.covariance().determinant(), 0.0);
-  EXPECT_LT(r.T_target_source.covariance()(0, 0), 1e-4);
+  EXPECT_GT(r.covariance.determinant(), 0.0);
+  EXPECT_LT(r.covariance(0, 0), 1e-4);
 }
 
 TEST(Icp2d, EveryVariantRecoversANoisyScan) {
@@ -110,11 +111,11 @@ TEST(Icp2d, EveryVariantRecoversANoisyScan) {
       auto o = accurate_options();
       o.algorithm = algo;
       o.metric = metric;
-      const auto r = icp_2d(target, scan, Pose2(), o);
+      const auto r = icp_2d(target, scan, SE2d(), o);
       SCOPED_TRACE(::testing::Message() << "algorithm " << static_cast<int>(algo) << " metric "
                                         << static_cast<int>(metric));
       ASSERT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
-      expect_pose_near(r.T_target_source.mean(), truth, 5e-3, deg_to_rad(0.1));
+      expect_pose_near(to_pose2(r.T_target_source), truth, 5e-3, deg_to_rad(0.1));
     }
   }
 }
@@ -133,8 +134,8 @@ TEST(Icp2dMrptCompat, MrptFitRecoversKnownPoses) {
   const IcpTarget2D exact(global, mrpt_target);
   Icp2dOptions o = accurate_options();
   o.arithmetic = Arithmetic::Mrpt;
-  const auto r = icp_2d(exact, local, Pose2(2.05, 2.95, std::numbers::pi / 2 + 0.02), o);
-  expect_pose_near(r.T_target_source.mean(), truth, 1e-6, 1e-6);
+  const auto r = icp_2d(exact, local, SE2d(2.05, 2.95, std::numbers::pi / 2 + 0.02), o);
+  expect_pose_near(to_pose2(r.T_target_source), truth, 1e-6, 1e-6);
 
   // A real registration near the origin: MRPT's arithmetic lands where the
   // double one does, to float precision, for both of MRPT's methods.
@@ -148,15 +149,15 @@ TEST(Icp2dMrptCompat, MrptFitRecoversKnownPoses) {
     od.algorithm = algo;
     Icp2dOptions of = od;
     of.arithmetic = Arithmetic::Mrpt;
-    const auto d = icp_2d(target, scan, Pose2(), od);
-    const auto f = icp_2d(target_f, scan, Pose2(), of);
+    const auto d = icp_2d(target, scan, SE2d(), od);
+    const auto f = icp_2d(target_f, scan, SE2d(), of);
     ASSERT_EQ(f.termination, RegistrationTermination::Converged) << f.message;
-    expect_pose_near(f.T_target_source.mean(), room_truth, 0.01, deg_to_rad(0.3));
-    expect_pose_near(d.T_target_source.mean(), room_truth, 0.01, deg_to_rad(0.3));
+    expect_pose_near(to_pose2(f.T_target_source), room_truth, 0.01, deg_to_rad(0.3));
+    expect_pose_near(to_pose2(d.T_target_source), room_truth, 0.01, deg_to_rad(0.3));
     // The classic run follows the same gate schedule; MRPT's LM steps are
     // bistable (docs/icp-slam.md), the two end within the sampling.
     if (algo == IcpAlgorithm::Classic)
-      expect_pose_near(f.T_target_source.mean(), d.T_target_source.mean(), 2e-4, 2e-4);
+      expect_pose_near(to_pose2(f.T_target_source), to_pose2(d.T_target_source), 2e-4, 2e-4);
   }
 }
 
@@ -169,22 +170,22 @@ TEST(Icp2d, DoubleArithmeticStaysExactFarFromTheOrigin) {
   const Eigen::Vector2d far(2000.0, -1500.0);
   auto map = room(0.1);
   for (auto& p : map) p += far;
-  const Pose2 guess(far.x(), far.y(), 0.0);
+  const SE2d guess(far.x(), far.y(), 0.0);
   const Pose2 truth(far.x() + 0.01, far.y() - 0.008, deg_to_rad(0.1));
   const auto scan = as_seen_from(map, truth, 0.0, 11);
   Icp2dOptions o = accurate_options();
   const auto d = icp_2d(IcpTarget2D(map), scan, guess, o);
   ASSERT_EQ(d.termination, RegistrationTermination::Converged) << d.message;
-  const double err_double = d.T_target_source.mean().distance_to(truth);
+  const double err_double = to_pose2(d.T_target_source).distance_to(truth);
   IcpTarget2DOptions mrpt_target;
   mrpt_target.arithmetic = Arithmetic::Mrpt;
   o.arithmetic = Arithmetic::Mrpt;
   const auto f = icp_2d(IcpTarget2D(map, mrpt_target), scan, guess, o);
-  const double err_mrpt = f.T_target_source.mean().distance_to(truth);
+  const double err_mrpt = to_pose2(f.T_target_source).distance_to(truth);
   std::printf("2 km from the origin: position error %.3g m (double), %.3g m (MRPT's float)\n",
               err_double, err_mrpt);
   EXPECT_LT(err_double, 1e-8);
-  EXPECT_LT(std::abs(wrap_to_pi(d.T_target_source.mean().phi() - truth.phi())), 1e-10);
+  EXPECT_LT(std::abs(wrap_to_pi(d.T_target_source.angle() - truth.phi())), 1e-10);
   EXPECT_FALSE(err_mrpt <= err_double);  // (also when MRPT's run diverged: NaN)
 }
 
@@ -195,7 +196,7 @@ TEST(Icp2d, ArithmeticOfTargetAndIcpMustAgree) {
   Icp2dOptions o;
   o.arithmetic = Arithmetic::Mrpt;
   try {
-    (void)icp_2d(IcpTarget2D(map), map, Pose2(), o);
+    (void)icp_2d(IcpTarget2D(map), map, SE2d(), o);
     FAIL() << "a double target was accepted by an MRPT-arithmetic ICP";
   } catch (const InvalidArgument& e) {
     EXPECT_NE(std::string(e.what()).find("arithmetic"), std::string::npos) << e.what();
@@ -211,9 +212,9 @@ TEST(Icp2d, MrptDecimationUsesEveryPointOverTheRun) {
   o.only_unique_robust = true;
   o.min_abs_step_trans = 1e-4;  // with noise, rotating subsets never repeat a step exactly
   o.min_abs_step_rot = 1e-4;
-  const auto r = icp_2d(IcpTarget2D(map), scan, Pose2(), o);
+  const auto r = icp_2d(IcpTarget2D(map), scan, SE2d(), o);
   ASSERT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
-  expect_pose_near(r.T_target_source.mean(), truth, 0.01, deg_to_rad(0.3));
+  expect_pose_near(to_pose2(r.T_target_source), truth, 0.01, deg_to_rad(0.3));
   // MRPT's goodness scales the count by the decimation: still ≈ 1.
   EXPECT_GT(r.goodness, 0.95);
 }
@@ -227,12 +228,12 @@ TEST(Icp2d, CorridorIsReportedDegenerate) {
     topt.normal_neighbors = 5;
     auto o = accurate_options();
     o.metric = metric;
-    const auto r = icp_2d(IcpTarget2D(map, topt), scan, Pose2(), o);
+    const auto r = icp_2d(IcpTarget2D(map, topt), scan, SE2d(), o);
     EXPECT_EQ(r.termination, RegistrationTermination::Degenerate) << r.message;
     EXPECT_LT(r.conditioning, 1e-3);
     // The constrained directions are still right: y and phi.
-    EXPECT_NEAR(r.T_target_source.mean().y(), 0.1, 1e-3);
-    EXPECT_NEAR(r.T_target_source.mean().phi(), deg_to_rad(2), 1e-3);
+    EXPECT_NEAR(r.T_target_source.translation().y(), 0.1, 1e-3);
+    EXPECT_NEAR(r.T_target_source.angle(), deg_to_rad(2), 1e-3);
   }
 }
 
@@ -247,10 +248,10 @@ TEST(Icp2d, AgainstAnOccupancyGrid) {
   const auto scan = as_seen_from(room(0.05), truth, 0.003, 5);
   auto o = accurate_options();
   o.smallest_threshold_dist = 0.05;
-  const auto r = icp_2d(target, scan, Pose2(), o);
+  const auto r = icp_2d(target, scan, SE2d(), o);
   ASSERT_EQ(r.termination, RegistrationTermination::Converged) << r.message;
   // Cell centers quantize the walls to 5 cm: within a cell.
-  expect_pose_near(r.T_target_source.mean(), truth, 0.05, deg_to_rad(0.5));
+  expect_pose_near(to_pose2(r.T_target_source), truth, 0.05, deg_to_rad(0.5));
 }
 
 TEST(Icp2d, ParallelEqualsSerial) {
@@ -264,12 +265,12 @@ TEST(Icp2d, ParallelEqualsSerial) {
     o.algorithm = algo;
     o.metric = Icp2dMetric::PointToLine;
     o.only_unique_robust = true;
-    const auto a = icp_2d(target, scan, Pose2(), o);
+    const auto a = icp_2d(target, scan, SE2d(), o);
     o.num_threads = 3;
-    const auto b = icp_2d(target, scan, Pose2(), o);
-    EXPECT_EQ(a.T_target_source.mean().x(), b.T_target_source.mean().x());
-    EXPECT_EQ(a.T_target_source.mean().phi(), b.T_target_source.mean().phi());
-    EXPECT_EQ(a.T_target_source.covariance(), b.T_target_source.covariance());
+    const auto b = icp_2d(target, scan, SE2d(), o);
+    EXPECT_EQ(a.T_target_source.translation().x(), b.T_target_source.translation().x());
+    EXPECT_EQ(a.T_target_source.angle(), b.T_target_source.angle());
+    EXPECT_EQ(a.covariance, b.covariance);
     EXPECT_EQ(a.iterations, b.iterations);
     EXPECT_EQ(a.correspondences, b.correspondences);
   }
@@ -279,24 +280,24 @@ TEST(Icp2d, BadInputsGiveHonestTerminations) {
   const auto map = room(0.1);
   const IcpTarget2D target(map);
   std::vector<Eigen::Vector2d> empty;
-  EXPECT_EQ(icp_2d(target, empty, Pose2()).termination, RegistrationTermination::InvalidInput);
-  EXPECT_EQ(icp_2d(IcpTarget2D(), map, Pose2()).termination, RegistrationTermination::InvalidInput);
+  EXPECT_EQ(icp_2d(target, empty, SE2d()).termination, RegistrationTermination::InvalidInput);
+  EXPECT_EQ(icp_2d(IcpTarget2D(), map, SE2d()).termination, RegistrationTermination::InvalidInput);
   std::vector<Eigen::Vector2d> nans(10, Eigen::Vector2d(std::nan(""), 0));
-  EXPECT_EQ(icp_2d(target, nans, Pose2()).termination, RegistrationTermination::InvalidInput);
+  EXPECT_EQ(icp_2d(target, nans, SE2d()).termination, RegistrationTermination::InvalidInput);
   // Far from the map: no pair within the gate.
-  const auto r = icp_2d(target, map, Pose2(100, 100, 0));
+  const auto r = icp_2d(target, map, SE2d(100, 100, 0));
   EXPECT_EQ(r.termination, RegistrationTermination::TooFewCorrespondences);
-  EXPECT_EQ(r.T_target_source.mean().x(), 100.0);
+  EXPECT_EQ(r.T_target_source.translation().x(), 100.0);
   // Non-finite source points among good ones are skipped.
   auto mixed = as_seen_from(map, Pose2(0.05, 0, 0), 0, 7);
   mixed.push_back({std::nan(""), 1.0});
   mixed.push_back({INFINITY, 1.0});
-  const auto rm = icp_2d(target, mixed, Pose2(), accurate_options());
+  const auto rm = icp_2d(target, mixed, SE2d(), accurate_options());
   EXPECT_EQ(rm.termination, RegistrationTermination::Converged) << rm.message;
   // Point-to-line without normals is a caller bug.
   auto o = accurate_options();
   o.metric = Icp2dMetric::PointToLine;
-  EXPECT_THROW(icp_2d(target, map, Pose2(), o), InvalidArgument);
+  EXPECT_THROW(icp_2d(target, map, SE2d(), o), InvalidArgument);
 }
 
 TEST(Icp2d, MaxIterationsIsNotConverged) {
@@ -305,7 +306,7 @@ TEST(Icp2d, MaxIterationsIsNotConverged) {
   auto o = accurate_options();
   o.max_iterations = 2;
   o.alfa = 0.9;
-  const auto r = icp_2d(IcpTarget2D(map), scan, Pose2(), o);
+  const auto r = icp_2d(IcpTarget2D(map), scan, SE2d(), o);
   EXPECT_EQ(r.termination, RegistrationTermination::MaxIterations) << r.message;
   EXPECT_GE(r.iterations, 2u);
 }

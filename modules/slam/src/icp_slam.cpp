@@ -16,6 +16,7 @@
 #include "rove/obs/range_image_3d.h"
 #include "rove/obs/range_scan_2d.h"
 #include "rove/obs/robot_movement_2d.h"
+#include "rove/poses/lie_conversion.h"
 
 namespace rove {
 namespace {
@@ -251,7 +252,7 @@ IcpSlamUpdate IcpSlam::process(const std::shared_ptr<const Observation>& observa
         source.emplace_back(static_cast<double>(p.x()), static_cast<double>(p.y()));
       }
       Stopwatch sw;
-      const Icp2dResult r = icp_2d(target(), source, up.predicted, options_.icp);
+      const Icp2dResult r = icp_2d(target(), source, to_se2(up.predicted), options_.icp);
       stats_.icp_seconds += sw.elapsed();
       ++stats_.icp_runs;
       stats_.icp_iterations += r.iterations;
@@ -259,7 +260,7 @@ IcpSlamUpdate IcpSlam::process(const std::shared_ptr<const Observation>& observa
       up.icp_goodness = r.goodness;
       up.icp_iterations = r.iterations;
       up.icp_termination = r.termination;
-      const Pose2& est = r.T_target_source.mean();
+      const Pose2 est = to_pose2(r.T_target_source);
       const bool finite = std::isfinite(est.x()) && std::isfinite(est.y()) &&
                           std::isfinite(est.phi()) &&
                           r.termination != RegistrationTermination::Diverged;
@@ -274,7 +275,7 @@ IcpSlamUpdate IcpSlam::process(const std::shared_ptr<const Observation>& observa
         up.icp_accepted = true;
         ++stats_.icp_accepted;
         estimator_.update_localization(est, obs.timestamp);
-        last_cov_ = r.T_target_source.covariance();
+        last_cov_ = r.covariance;
         since_icp_.reset(est);
       }
       accumulate(estimator_.latest_pose().value_or(Pose2()));

@@ -52,7 +52,7 @@
 #include "rove/core/arithmetic.h"
 #include "rove/core/config_section.h"
 #include "rove/math/robust_kernel.h"
-#include "rove/poses/pdf_gaussian2.h"
+#include "rove/math/se2.h"
 #include "rove/poses/pdf_sog.h"
 #include "rove/registration/icp_target_2d.h"
 #include "rove/registration/ransac_rigid.h"
@@ -198,8 +198,11 @@ struct Icp2dOptions {
 
 /// Result of icp_2d.
 struct Icp2dResult {
-  /// Pose of the source frame in the target frame, covariance (x, y, phi).
-  Pose2Gaussian T_target_source;
+  /// Pose of the source frame in the target frame.
+  SE2d T_target_source;
+  /// Its covariance over the right tangent (ρx, ρy, θ) (zero when
+  /// skip_cov_calculation or the run did not converge).
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   /// Sum of Gaussians from the RANSAC step (empty unless do_ransac).
   Pose2SOG sog;
   /// Share of source points with a pair at the last pairing, in [0, 1]:
@@ -231,11 +234,6 @@ struct Icp2dResult {
 /// built with the same arithmetic; point-to-line needs target.has_normals().
 /// Empty inputs give InvalidInput.
 Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
-                   const Pose2& initial_T_target_source, const Icp2dOptions& options = {});
-
-/// As above with a Gaussian initial guess (its mean is used; MRPT's AlignPDF).
-Icp2dResult icp_2d(const IcpTarget2D& target, std::span<const Eigen::Vector2d> source,
-                   const Pose2Gaussian& initial_T_target_source,
-                   const Icp2dOptions& options = {});
+                   const SE2d& initial_T_target_source, const Icp2dOptions& options = {});
 
 }  // namespace rove

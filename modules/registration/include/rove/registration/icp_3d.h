@@ -39,7 +39,7 @@
 #include <Eigen/Geometry>
 
 #include "rove/math/robust_kernel.h"
-#include "rove/poses/pdf_gaussian3.h"
+#include "rove/math/se3.h"
 #include "rove/registration/prepared_cloud.h"
 #include "rove/registration/termination.h"
 
@@ -95,11 +95,12 @@ struct Icp3dOptions {
 
 /// Result of icp_3d.
 struct Icp3dResult {
-  /// Pose of the source frame in the target frame with covariance over
-  /// (x, y, z, yaw, pitch, roll).
-  Pose3Gaussian T_target_source;
-  /// The same pose as a 4×4 homogeneous matrix (p_target = T·p_source).
-  Eigen::Matrix4d matrix = Eigen::Matrix4d::Identity();
+  /// Pose of the source frame in the target frame (p_target =
+  /// T_target_source·p_source).
+  SE3d T_target_source;
+  /// Its covariance over the right tangent (ρ, ω): σ²-scaled inverse of
+  /// `information` (zero when the run produced none).
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   /// Gauss–Newton Hessian at the result in the right tangent (ρ, ω).
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
   /// Share of source points paired at the last linearization, [0, 1].
@@ -125,10 +126,8 @@ struct Icp3dResult {
 
 /// Registers `source` onto `target` from `initial_T_target_source`.
 /// Preconditions (InvalidArgument): options.check(); point-to-plane needs
-/// target.has_normals(); GICP needs covariances on both clouds; the initial
-/// transform is finite and rigid. Empty clouds give InvalidInput.
+/// target.has_normals(); GICP needs covariances on both clouds. Empty clouds give InvalidInput.
 Icp3dResult icp_3d(const PreparedCloud3D& target, const PreparedCloud3D& source,
-                   const Eigen::Isometry3d& initial_T_target_source,
-                   const Icp3dOptions& options = {});
+                   const SE3d& initial_T_target_source, const Icp3dOptions& options = {});
 
 }  // namespace rove

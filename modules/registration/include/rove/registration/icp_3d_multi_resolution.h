@@ -73,11 +73,10 @@ struct Icp3dMultiResolutionResult {
 
 /// Registers `source` onto `target` (points in meters; non-finite points are
 /// dropped) coarse to fine from `initial_T_target_source`. Preconditions
-/// (InvalidArgument): options.check(); the initial transform finite and
-/// rigid. Empty clouds give InvalidInput.
+/// (InvalidArgument): options.check(). Empty clouds give InvalidInput.
 Icp3dMultiResolutionResult icp_3d_multi_resolution(
     std::span<const Eigen::Vector3f> target, std::span<const Eigen::Vector3f> source,
-    const Eigen::Isometry3d& initial_T_target_source,
+    const SE3d& initial_T_target_source,
     const Icp3dMultiResolutionOptions& options = {});
 
 }  // namespace rove

@@ -34,8 +34,8 @@
 ///
 /// Uncertainty of the result, in either mode: information −H, H the score
 /// Hessian at the result, and covariance (−H)⁻¹, over the right tangent
-/// (ρ, ω) (docs/conventions.md); the Gaussian of the result gives the
-/// covariance over (x, y, z, yaw, pitch, roll) (Pose2: x, y, phi). The NDT
+/// (ρ, ω) (docs/conventions.md; to_pose3_gaussian in rove/poses/
+/// lie_conversion.h gives MRPT's (x, y, z, yaw, pitch, roll) form). The NDT
 /// score is a likelihood only up to the scale of d₁, d₂, so read it as a
 /// shape, not as calibrated metres.
 
@@ -51,8 +51,8 @@
 #include <Eigen/Geometry>
 
 #include "rove/maps/kdtree.h"
-#include "rove/poses/pdf_gaussian2.h"
-#include "rove/poses/pdf_gaussian3.h"
+#include "rove/math/se2.h"
+#include "rove/math/se3.h"
 #include "rove/registration/termination.h"
 
 namespace rove {
@@ -196,11 +196,11 @@ struct NdtOptions {
 
 /// Result of ndt_3d.
 struct Ndt3dResult {
-  /// Pose of the source in the target frame, covariance over (x, y, z,
-  /// yaw, pitch, roll).
-  Pose3Gaussian T_target_source;
-  /// The same pose as a 4×4 matrix.
-  Eigen::Matrix4d matrix = Eigen::Matrix4d::Identity();
+  /// Pose of the source in the target frame.
+  SE3d T_target_source;
+  /// Its covariance over the right tangent (ρ, ω): the inverse of
+  /// `information` (zero when the run produced none).
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   /// Score / number of source points (PCL's getTransformationProbability).
   double transformation_probability = 0.0;
   /// Share of source points with at least one cell within `resolution`.
@@ -229,7 +229,9 @@ struct Ndt3dResult {
 
 /// Result of ndt_2d (as Ndt3dResult, in 2D).
 struct Ndt2dResult {
-  Pose2Gaussian T_target_source;
+  SE2d T_target_source;
+  /// Covariance over the right tangent (ρx, ρy, θ).
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   double transformation_probability = 0.0;
   double goodness = 0.0;
   double fitness = 0.0;
@@ -246,14 +248,13 @@ struct Ndt2dResult {
 
 /// 3D NDT of `source` (meters; non-finite points skipped) onto `target`
 /// from `initial_T_target_source`. Preconditions (InvalidArgument):
-/// options.check(), finite rigid initial transform. Empty inputs give
+/// options.check(). Empty inputs give
 /// InvalidInput.
 Ndt3dResult ndt_3d(const NdtGrid3D& target, std::span<const Eigen::Vector3f> source,
-                   const Eigen::Isometry3d& initial_T_target_source,
-                   const NdtOptions& options = {});
+                   const SE3d& initial_T_target_source, const NdtOptions& options = {});
 
 /// 2D NDT (cells are squares; the outlier constant uses the cell area).
 Ndt2dResult ndt_2d(const NdtGrid2D& target, std::span<const Eigen::Vector2f> source,
-                   const Pose2& initial_T_target_source, const NdtOptions& options = {});
+                   const SE2d& initial_T_target_source, const NdtOptions& options = {});
 
 }  // namespace rove

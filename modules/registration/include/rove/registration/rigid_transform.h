@@ -15,10 +15,10 @@
 /// Covariance: with every coordinate of every point perturbed by independent
 /// noise of variance σ² (`point_variance`), the first-order covariance of the
 /// estimate is σ²·(Σ wᵢ JᵢᵀJᵢ)⁻¹, Jᵢ the Jacobian of the residual T·sᵢ − tᵢ
-/// with respect to the pose parameters at the solution. It is reported in
-/// the parameterization of the pose type (Pose2: x, y, phi; Pose3: x, y, z,
-/// yaw, pitch, roll). Directions the pairs do not constrain get the variance
-/// kUnconstrainedVariance and the termination reason Degenerate.
+/// with respect to the pose at the solution. It is reported over the group's
+/// right tangent, T·exp(ξ) (SE2: ξ = (ρx, ρy, θ); SE3: ξ = (ρ, ω);
+/// docs/conventions.md). Directions the pairs do not constrain get the
+/// variance kUnconstrainedVariance and the termination reason Degenerate.
 
 #include <cstddef>
 #include <span>
@@ -26,8 +26,8 @@
 
 #include <Eigen/Core>
 
-#include "rove/poses/pdf_gaussian2.h"
-#include "rove/poses/pdf_gaussian3.h"
+#include "rove/math/se2.h"
+#include "rove/math/se3.h"
 #include "rove/registration/termination.h"
 
 namespace rove {
@@ -49,8 +49,10 @@ struct RigidFitOptions {
 
 /// Result of fit_rigid_2d.
 struct RigidFit2Result {
-  /// The pose of the source frame in the target frame with its covariance.
-  Pose2Gaussian T_target_source;
+  /// The pose of the source frame in the target frame.
+  SE2d T_target_source;
+  /// Its covariance over the right tangent (ρx, ρy, θ).
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   /// Pairs with a positive weight that were used.
   std::size_t pairs = 0;
   /// sqrt(Σ wᵢ ‖T·sᵢ − tᵢ‖² / Σ wᵢ), meters.
@@ -65,9 +67,10 @@ struct RigidFit2Result {
 
 /// Result of fit_rigid_3d.
 struct RigidFit3Result {
-  /// The pose of the source frame in the target frame with its covariance
-  /// over (x, y, z, yaw, pitch, roll).
-  Pose3Gaussian T_target_source;
+  /// The pose of the source frame in the target frame.
+  SE3d T_target_source;
+  /// Its covariance over the right tangent (ρ, ω).
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   /// Pairs with a positive weight that were used.
   std::size_t pairs = 0;
   /// sqrt(Σ wᵢ ‖T·sᵢ − tᵢ‖² / Σ wᵢ), meters.

@@ -186,7 +186,8 @@ class IcpSlam {
 
   /// The current pose T_map_robot (the origin before any data).
   Pose2 pose() const;
-  /// Covariance (x, y, phi) of the last accepted ICP fix (zero before any).
+  /// Covariance of the last accepted ICP fix over the right tangent
+  /// (ρx, ρy, θ) (zero before any).
   const Eigen::Matrix3d& last_icp_covariance() const noexcept { return last_cov_; }
   /// The cumulative odometry of the action collections seen so far.
   const Pose2& accumulated_odometry() const noexcept { return accumulated_odometry_; }
