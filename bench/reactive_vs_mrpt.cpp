@@ -44,7 +44,7 @@ const Inputs& inputs() {
     const rove::NavigationGrid grid = rove::NavigationGrid::from_occupancy(rove::load_mrpt_gridmap(kMap).grid);
     rove::Simulator sim(grid, d.pose);
     const rove::RangeScan2D scan = sim.scan();
-    d.points_robot = scan.points_2d(rove::ScanFrame::kRobot);
+    d.points_robot = scan.points_2d(rove::ScanFrame::Robot);
     d.points_map = rove::scan_points_in_map(scan, d.pose);
     return d;
   }();
