@@ -131,7 +131,7 @@ void write_maps(const fs::path& dir, const LidarSlam& slam, const LidarMapOption
   w.map_cells_x = grid.size_x();
   w.map_cells_y = grid.size_y();
   GridImageOptions scale;
-  scale.mode = RosMapMode::kScale;
+  scale.mode = RosMapMode::Scale;
   const RosMapFiles f = save_ros_map((dir / "map").string(), grid, scale);
   w.files.push_back(f.image);
   w.files.push_back(f.yaml);

@@ -6,7 +6,6 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "rove/poses/lie_conversion.h"
 #include "rove/registration/icp_2d.h"
 #include "rove/slam/scan_points_2d.h"
 
@@ -74,12 +73,11 @@ LidarIcpResult icp_align(const IcpTarget2D& target, std::span<const Eigen::Vecto
   o.corresponding_points_decimation = 1;
   o.skip_cov_calculation = true;
   if (remap_threshold > 0.0) o.degeneracy_threshold = 0.0;  // remapped below instead
-  // The one conversion between lidar SLAM's SE2d and icp_2d's Pose2.
-  const Icp2dResult r = icp_2d(target, points_robot, to_pose2(initial), o);
+  const Icp2dResult r = icp_2d(target, points_robot, initial, o);
   LidarIcpResult out;
   out.termination = r.termination;
   out.goodness = r.goodness;
-  out.T_target_robot = r.ok() ? to_se2(r.T_target_source.mean()) : initial;
+  out.T_target_robot = r.ok() ? r.T_target_source : initial;
   if (r.ok() && remap_threshold > 0.0 && target.has_normals()) {
     out.T_target_robot = remap(target, points_robot, initial, out.T_target_robot, remap_threshold);
   }

@@ -3,8 +3,7 @@
 // of a scan's pose against the points of the latest nodes, and the
 // verification of a loop-closure candidate against the points of the
 // submap's nodes. This file is the only place lidar SLAM calls
-// rove::icp_2d, whose poses are Pose2: the conversion from and to SE2d
-// happens here (icp_align).
+// rove::icp_2d (icp_align).
 
 #include <cstddef>
 #include <memory>

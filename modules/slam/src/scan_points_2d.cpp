@@ -38,7 +38,7 @@ ScanPoints2D scan_points_2d(const RangeScan2D& scan, const ScanPointsOptions& op
   const std::vector<std::size_t> rays = scan.point_ray_indices();
   out.valid_rays = rays.size();
   if (rays.empty()) return out;
-  const std::vector<Eigen::Vector2d> pts = scan.points_2d(ScanFrame::kRobot);
+  const std::vector<Eigen::Vector2d> pts = scan.points_2d(ScanFrame::Robot);
   std::vector<Eigen::Vector2d> kept;
   kept.reserve(pts.size());
   for (std::size_t k = 0; k < rays.size(); ++k) {

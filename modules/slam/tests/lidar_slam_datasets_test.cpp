@@ -35,7 +35,7 @@ TEST(LidarSlamDatasets, AcesRelationErrorBelowGraphMapping) {
   CarmenLogReader reader = CarmenLogReader::open(log);
   CarmenRecord record;
   while (reader.next(record))
-    if (record.type == CarmenMessage::kFlaser) clock.push_back({record.ipc_timestamp, record.logger_timestamp});
+    if (record.type == CarmenMessage::Flaser) clock.push_back({record.ipc_timestamp, record.logger_timestamp});
   const RelationResult r = relation_error(est, map_relation_times(read_relations(rel), clock, 1e-3));
   const double deg = 180.0 / std::numbers::pi;
   std::printf("[ACES] %zu of %zu relations: translation %.4f ± %.4f m, rotation %.3f ± %.3f deg; "

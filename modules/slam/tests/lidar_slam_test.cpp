@@ -286,7 +286,7 @@ TEST(LidarSlamRun, TelecomRawlogWithItsOdometry) {
       slam, test_data::bundled_file("mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog"), ro);
   EXPECT_EQ(slam.num_scans(), 120u);
   EXPECT_EQ(r.odometry.size(), 120u);
-  EXPECT_EQ(r.format, RawlogFormat::kMrpt);
+  EXPECT_EQ(r.format, RawlogFormat::Mrpt);
   EXPECT_EQ(r.other_scans, 0u);
   EXPECT_EQ(slam.stats().matched, 119u);
   EXPECT_GT(slam.stats().match_score_sum / 119.0, 0.35);

@@ -61,7 +61,7 @@ struct LidarSlamRunOptions {
 /// Result of run_lidar_slam.
 struct LidarSlamRunResult {
   /// The log's format.
-  RawlogFormat format = RawlogFormat::kMrpt;
+  RawlogFormat format = RawlogFormat::Mrpt;
   /// Entries read from the log.
   std::uint64_t entries = 0;
   /// The sensor label used.
