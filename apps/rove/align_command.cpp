@@ -120,6 +120,172 @@ std::string join(const std::vector<double>& v) {
   return s;
 }
 
+/// What one registration produced, whichever method ran.
+struct AlignOutcome {
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  double fitness = 0, goodness = 0;
+  int iterations = 0;
+  std::size_t source_points = 0, target_points = 0;
+  RegistrationTermination termination = RegistrationTermination::InvalidInput;
+  std::string message;
+  std::vector<std::string> level_messages;
+  double gate = 0;  // --max-distance when one ICP level ran, else 0
+  int iteration_cap = 0;
+};
+
+AlignOutcome run_ndt(const AlignOptions& o, const PointCloud& source_full,
+                     const PointCloud& target_full, const SE3d& init, double leaf, int threads) {
+  const auto down = [&](const PointCloud& c) {
+    return leaf > 0 ? voxel_downsample(c, static_cast<float>(leaf)) : c;
+  };
+  const PointCloud source = down(source_full);
+  const PointCloud target = down(target_full);
+  AlignOutcome out;
+  out.source_points = source.size();
+  out.target_points = target.size();
+  NdtGridOptions go;
+  go.resolution = o.resolution;
+  const NdtGrid3D grid(std::span<const Eigen::Vector3f>(target.points()), go);
+  NdtOptions no;
+  no.num_threads = threads;
+  if (o.max_iterations > 0) no.max_iterations = o.max_iterations;
+  out.iteration_cap = no.max_iterations;
+  const auto r = ndt_3d(grid, source.points(), init, no);
+  out.T = r.T_target_source.matrix();
+  out.fitness = r.fitness;
+  out.goodness = r.goodness;
+  out.iterations = r.iterations;
+  out.termination = r.termination;
+  out.message = r.message;
+  return out;
+}
+
+AlignOutcome run_icp(const AlignOptions& o, const PointCloud& source_full,
+                     const PointCloud& target_full, const SE3d& init,
+                     const std::vector<double>& voxels, int threads) {
+  AlignOutcome out;
+  // One voxel size: one level, gate --max-distance. Several: coarse to
+  // fine, gate --distance-factor × voxel at each level.
+  Icp3dMultiResolutionOptions mo;
+  mo.voxel_sizes = voxels;
+  mo.neighbors = o.neighbors;
+  if (voxels.size() == 1) {
+    if (voxels.front() > 0) {
+      mo.distance_factor = o.max_distance / voxels.front();
+    } else {
+      mo.full_resolution_distance = o.max_distance;
+    }
+    out.gate = o.max_distance;
+  } else {
+    mo.distance_factor = o.distance_factor;
+  }
+  if (o.method == "icp") {
+    mo.icp.method = Icp3dMethod::PointToPoint;
+  } else if (o.method == "point-to-plane") {
+    mo.icp.method = Icp3dMethod::PointToPlane;
+  } else {
+    mo.icp.method = Icp3dMethod::Gicp;
+  }
+  mo.icp.num_threads = threads;
+  if (o.max_iterations > 0) mo.icp.max_iterations = o.max_iterations;
+  out.iteration_cap = mo.icp.max_iterations;
+  const auto rr = icp_3d_multi_resolution(target_full.points(), source_full.points(), init, mo);
+  for (const auto& level : rr.levels) out.level_messages.push_back(level.message);
+  const auto& r = rr.result;
+  out.T = r.T_target_source.matrix();
+  out.fitness = r.fitness;
+  out.goodness = r.goodness;
+  out.iterations = rr.total_iterations;
+  out.termination = r.termination;
+  out.message = r.message;
+  out.source_points = rr.source_points.back();
+  out.target_points = rr.target_points.back();
+  return out;
+}
+
+/// Writes the source cloud moved by T (points and normals) to `path`.
+void write_aligned(const std::string& path, PointCloud aligned, const Eigen::Matrix4d& T) {
+  const Eigen::Matrix3f R = T.topLeftCorner<3, 3>().cast<float>();
+  const Eigen::Vector3f t = T.topRightCorner<3, 1>().cast<float>();
+  for (auto& p : aligned.points_mut()) p = R * p + t;
+  if (aligned.has_normals())
+    for (auto& n : aligned.normals_mut()) n = R * n;
+  const bool pcd = extension(path) == "pcd";
+  write_file_atomically(path, [&](const std::filesystem::path& tmp) {
+    if (pcd) {
+      write_pcd(tmp.string(), aligned);
+    } else {
+      write_ply(tmp.string(), aligned);
+    }
+  });
+}
+
+void print_json(const AlignOptions& o, const AlignOutcome& a, const std::vector<double>& voxels,
+                bool auto_voxel, int threads, double seconds, const std::vector<Issue>& issues) {
+  JsonWriter j;
+  j.begin_object();
+  j.key("command").value("align");
+  j.key("source").value(o.source).key("target").value(o.target);
+  j.key("method").value(o.method);
+  j.key("voxel").begin_array();
+  for (double v : voxels) j.value(v);
+  j.end_array();
+  j.key("voxel_auto").value(auto_voxel);
+  if (o.method == "ndt") {
+    j.key("resolution").value(o.resolution);
+  } else if (a.gate > 0) {
+    j.key("max_distance").value(a.gate);
+  } else {
+    j.key("distance_factor").value(o.distance_factor);
+  }
+  j.key("threads").value(threads);
+  j.key("source_points").value(static_cast<std::uint64_t>(a.source_points));
+  j.key("target_points").value(static_cast<std::uint64_t>(a.target_points));
+  j.key("T_target_source").begin_array();
+  for (int r = 0; r < 4; ++r) {
+    j.begin_array();
+    for (int c = 0; c < 4; ++c) j.value(a.T(r, c));
+    j.end_array();
+  }
+  j.end_array();
+  j.key("fitness_m2").value(a.fitness).key("goodness").value(a.goodness);
+  j.key("iterations").value(a.iterations).key("max_iterations").value(a.iteration_cap);
+  j.key("termination").value(to_string(a.termination));
+  j.key("converged").value(succeeded(a.termination));
+  j.key("message").value(a.message);
+  j.key("levels").value(a.level_messages);
+  j.key("seconds").value(seconds);
+  if (o.output.empty()) {
+    j.key("output").null();
+  } else {
+    j.key("output").value(o.output);
+  }
+  write_issues(j, issues);
+  j.end_object();
+  fmt::print("{}\n", j.str());
+}
+
+void print_text(const AlignOptions& o, const AlignOutcome& a, const std::vector<double>& voxels,
+                bool auto_voxel, double seconds, const std::vector<Issue>& issues) {
+  const std::string voxel_text =
+      voxels.size() == 1 && voxels.front() == 0 ? "none" : join(voxels) + " m";
+  for (const auto& m : a.level_messages) fmt::print("{}\n", m);
+  fmt::print("T_target_source:\n");
+  for (int i = 0; i < 4; ++i)
+    fmt::print("{:12.6f} {:12.6f} {:12.6f} {:12.6f}\n", a.T(i, 0), a.T(i, 1), a.T(i, 2),
+               a.T(i, 3));
+  fmt::print("method: {}\nvoxel: {}{}\npoints: source {} target {}\nfitness: {:.6g} m^2\n"
+             "goodness: {:.4f}\niterations: {} (cap {}{})\ntime: {:.3f} s\n"
+             "termination: {} ({})\n",
+             o.method, voxel_text,
+             auto_voxel ? " (auto, from the target's density; --voxel 0 disables it)" : "",
+             a.source_points, a.target_points, a.fitness, a.goodness, a.iterations,
+             a.iteration_cap, o.method == "ndt" ? "" : " per level", seconds,
+             to_string(a.termination), a.message);
+  if (!o.output.empty()) fmt::print("aligned source written to {}\n", printable(o.output));
+  fmt::print("issues: {}\n", issues.empty() ? "none" : std::to_string(issues.size()));
+}
+
 void run(const AlignOptions& o) {
   // Everything the command line names is checked before any work.
   const int threads = resolve_thread_count(o.threads, "--threads");
@@ -151,157 +317,19 @@ void run(const AlignOptions& o) {
       voxels = std::vector<double>{v, std::round(v * kFineRatio * 1e4) / 1e4};
     }
   }
-
-  Eigen::Matrix4d T;
-  double fitness = 0, goodness = 0;
-  int iterations = 0;
-  std::size_t source_points = 0, target_points = 0;
-  RegistrationTermination termination;
-  std::string message;
-  std::vector<std::string> level_messages;
-  double gate = 0;
-  int iteration_cap = 0;
-  if (o.method == "ndt") {
-    const double leaf = voxels->front();
-    const auto down = [&](const PointCloud& c) {
-      return leaf > 0 ? voxel_downsample(c, static_cast<float>(leaf)) : c;
-    };
-    const PointCloud source = down(source_full);
-    const PointCloud target = down(target_full);
-    source_points = source.size();
-    target_points = target.size();
-    NdtGridOptions go;
-    go.resolution = o.resolution;
-    const NdtGrid3D grid(std::span<const Eigen::Vector3f>(target.points()), go);
-    NdtOptions no;
-    no.num_threads = threads;
-    if (o.max_iterations > 0) no.max_iterations = o.max_iterations;
-    iteration_cap = no.max_iterations;
-    const auto r = ndt_3d(grid, source.points(), init, no);
-    T = r.T_target_source.matrix();
-    fitness = r.fitness;
-    goodness = r.goodness;
-    iterations = r.iterations;
-    termination = r.termination;
-    message = r.message;
-  } else {
-    // One voxel size: one level, gate --max-distance. Several: coarse to
-    // fine, gate --distance-factor × voxel at each level.
-    Icp3dMultiResolutionOptions mo;
-    mo.voxel_sizes = *voxels;
-    mo.neighbors = o.neighbors;
-    if (voxels->size() == 1) {
-      if (voxels->front() > 0) {
-        mo.distance_factor = o.max_distance / voxels->front();
-      } else {
-        mo.full_resolution_distance = o.max_distance;
-      }
-      gate = o.max_distance;
-    } else {
-      mo.distance_factor = o.distance_factor;
-    }
-    if (o.method == "icp") {
-      mo.icp.method = Icp3dMethod::PointToPoint;
-    } else if (o.method == "point-to-plane") {
-      mo.icp.method = Icp3dMethod::PointToPlane;
-    } else {
-      mo.icp.method = Icp3dMethod::Gicp;
-    }
-    mo.icp.num_threads = threads;
-    if (o.max_iterations > 0) mo.icp.max_iterations = o.max_iterations;
-    iteration_cap = mo.icp.max_iterations;
-    const auto rr = icp_3d_multi_resolution(target_full.points(), source_full.points(), init, mo);
-    for (const auto& level : rr.levels) level_messages.push_back(level.message);
-    const auto& r = rr.result;
-    T = r.T_target_source.matrix();
-    fitness = r.fitness;
-    goodness = r.goodness;
-    iterations = rr.total_iterations;
-    termination = r.termination;
-    message = r.message;
-    source_points = rr.source_points.back();
-    target_points = rr.target_points.back();
-  }
+  const AlignOutcome a =
+      o.method == "ndt"
+          ? run_ndt(o, source_full, target_full, init, voxels->front(), threads)
+          : run_icp(o, source_full, target_full, init, *voxels, threads);
   const double seconds = clock.elapsed();
 
   std::vector<Issue> issues;
-  if (!succeeded(termination)) issues.push_back({issue_code(termination), message});
-
-  if (!o.output.empty()) {
-    PointCloud aligned = source_full;
-    const Eigen::Matrix3f R = T.topLeftCorner<3, 3>().cast<float>();
-    const Eigen::Vector3f t = T.topRightCorner<3, 1>().cast<float>();
-    for (auto& p : aligned.points_mut()) p = R * p + t;
-    if (aligned.has_normals())
-      for (auto& n : aligned.normals_mut()) n = R * n;
-    const bool pcd = extension(o.output) == "pcd";
-    write_file_atomically(o.output, [&](const std::filesystem::path& tmp) {
-      if (pcd) {
-        write_pcd(tmp.string(), aligned);
-      } else {
-        write_ply(tmp.string(), aligned);
-      }
-    });
-  }
-
-  const std::string voxel_text =
-      voxels->size() == 1 && voxels->front() == 0 ? "none" : join(*voxels) + " m";
+  if (!succeeded(a.termination)) issues.push_back({issue_code(a.termination), a.message});
+  if (!o.output.empty()) write_aligned(o.output, source_full, a.T);
   if (o.json) {
-    JsonWriter j;
-    j.begin_object();
-    j.key("command").value("align");
-    j.key("source").value(o.source).key("target").value(o.target);
-    j.key("method").value(o.method);
-    j.key("voxel").begin_array();
-    for (double v : *voxels) j.value(v);
-    j.end_array();
-    j.key("voxel_auto").value(auto_voxel);
-    if (o.method == "ndt") {
-      j.key("resolution").value(o.resolution);
-    } else if (gate > 0) {
-      j.key("max_distance").value(gate);
-    } else {
-      j.key("distance_factor").value(o.distance_factor);
-    }
-    j.key("threads").value(threads);
-    j.key("source_points").value(static_cast<std::uint64_t>(source_points));
-    j.key("target_points").value(static_cast<std::uint64_t>(target_points));
-    j.key("T_target_source").begin_array();
-    for (int r = 0; r < 4; ++r) {
-      j.begin_array();
-      for (int c = 0; c < 4; ++c) j.value(T(r, c));
-      j.end_array();
-    }
-    j.end_array();
-    j.key("fitness_m2").value(fitness).key("goodness").value(goodness);
-    j.key("iterations").value(iterations).key("max_iterations").value(iteration_cap);
-    j.key("termination").value(to_string(termination));
-    j.key("converged").value(succeeded(termination));
-    j.key("message").value(message);
-    j.key("levels").value(level_messages);
-    j.key("seconds").value(seconds);
-    if (o.output.empty()) {
-      j.key("output").null();
-    } else {
-      j.key("output").value(o.output);
-    }
-    write_issues(j, issues);
-    j.end_object();
-    fmt::print("{}\n", j.str());
+    print_json(o, a, *voxels, auto_voxel, threads, seconds, issues);
   } else {
-    for (const auto& m : level_messages) fmt::print("{}\n", m);
-    fmt::print("T_target_source:\n");
-    for (int i = 0; i < 4; ++i)
-      fmt::print("{:12.6f} {:12.6f} {:12.6f} {:12.6f}\n", T(i, 0), T(i, 1), T(i, 2), T(i, 3));
-    fmt::print("method: {}\nvoxel: {}{}\npoints: source {} target {}\nfitness: {:.6g} m^2\n"
-               "goodness: {:.4f}\niterations: {} (cap {}{})\ntime: {:.3f} s\n"
-               "termination: {} ({})\n",
-               o.method, voxel_text,
-               auto_voxel ? " (auto, from the target's density; --voxel 0 disables it)" : "",
-               source_points, target_points, fitness, goodness, iterations, iteration_cap,
-               o.method == "ndt" ? "" : " per level", seconds, to_string(termination), message);
-    if (!o.output.empty()) fmt::print("aligned source written to {}\n", printable(o.output));
-    fmt::print("issues: {}\n", issues.empty() ? "none" : std::to_string(issues.size()));
+    print_text(o, a, *voxels, auto_voxel, seconds, issues);
   }
   finish(issues);
 }

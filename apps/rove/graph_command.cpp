@@ -151,6 +151,128 @@ std::string init_description(const InitialGuessChoice& c) {
   return fmt::format("{} (auto: {})", to_string(c.used), c.note);
 }
 
+/// Everything a graph-slam run reports, for its JSON and its text.
+struct GraphSlamReport {
+  const GraphSlamArgs& a;
+  const Loaded& l;
+  const GraphOptimizerOptions& o;
+  const GraphOptimizerResult& r;
+  const InitialGuessChoice& choice;
+  std::size_t num_vertices;
+  int threads;
+  double init_s, write_s;
+  bool plotted;
+  std::optional<AlignedPositionError> gt;
+  std::vector<Issue> issues;
+};
+
+void print_json(const GraphSlamReport& rep) {
+  const auto& [a, l, o, r, choice, num_vertices, threads, init_s, write_s, plotted, gt, issues] =
+      rep;
+  JsonWriter j;
+  j.begin_object();
+  j.key("input").value(a.input);
+  j.key("dimension").value(l.dim);
+  j.key("vertices").value(static_cast<std::uint64_t>(num_vertices));
+  write_read_report(j, a, l.read);
+  j.key("level").value(a.level);
+  j.key("edges_used").value(static_cast<std::uint64_t>(r.num_edges_used));
+  j.key("vertices_optimized").value(static_cast<std::uint64_t>(r.num_vertices_optimized));
+  j.key("vertices_fixed").value(static_cast<std::uint64_t>(r.num_vertices_fixed));
+  if (r.gauge_anchor) {
+    j.key("gauge_anchor").value(static_cast<std::uint64_t>(*r.gauge_anchor));
+  } else {
+    j.key("gauge_anchor").null();
+  }
+  j.key("init_requested").value(to_string(choice.requested));
+  j.key("init").value(to_string(choice.used));
+  j.key("init_note").value(choice.note);
+  j.key("init_chi2_as_is");
+  if (choice.as_is_chi2) j.value(*choice.as_is_chi2); else j.null();
+  j.key("init_chi2_chordal");
+  if (choice.chordal_chi2) j.value(*choice.chordal_chi2); else j.null();
+  j.key("solver").value(to_string(o.solver));
+  j.key("linear_solver").value(to_string(r.linear_solver));
+  j.key("threads").value(threads);
+  j.key("initial_chi2").value(r.initial_chi2);
+  j.key("final_chi2").value(r.final_chi2);
+  j.key("iterations").value(r.iterations);
+  j.key("accepted_steps").value(r.accepted_steps);
+  j.key("factorizations").value(r.factorizations);
+  j.key("reused_factorizations").value(r.reused_factorizations);
+  j.key("cg_iterations").value(r.cg_iterations);
+  j.key("termination").value(to_string(r.termination));
+  j.key("converged").value(r.termination == GraphTermination::Converged);
+  j.key("message").value(r.message);
+  j.key("time_s").begin_object();
+  j.key("load").value(l.load_s).key("init").value(init_s);
+  j.key("setup").value(r.timing.setup).key("linearize").value(r.timing.linearize);
+  j.key("factorize").value(r.timing.factorize).key("evaluate").value(r.timing.evaluate);
+  j.key("optimize").value(r.timing.total).key("write").value(write_s);
+  j.end_object();
+  j.key("hessian_nonzeros").value(static_cast<std::uint64_t>(r.hessian_nonzeros));
+  j.key("factor_nonzeros").value(static_cast<std::uint64_t>(r.factor_nonzeros));
+  j.key("ground_truth_rmse");
+  if (gt) j.value(gt->rmse); else j.null();
+  j.key("output");
+  if (r.improved() && !a.output.empty()) j.value(a.output); else j.null();
+  j.key("plot");
+  if (plotted) j.value(a.plot); else j.null();
+  j.key("problems").begin_array();
+  for (const auto& is : r.issues) {
+    j.begin_object();
+    j.key("edge");
+    if (is.edge == static_cast<std::size_t>(-1)) j.null(); else j.value(static_cast<std::uint64_t>(is.edge));
+    j.key("vertex").value(static_cast<std::uint64_t>(is.vertex));
+    j.key("message").value(is.message);
+    j.end_object();
+  }
+  j.end_array();
+  write_issues(j, issues);
+  j.end_object();
+  fmt::print("{}\n", j.str());
+}
+
+void print_text(const GraphSlamReport& rep) {
+  const auto& [a, l, o, r, choice, num_vertices, threads, init_s, write_s, plotted, gt, issues] =
+      rep;
+  fmt::print("input          {} ({}D, {} vertices, {} edges used at level {})\n",
+             printable(a.input), l.dim, num_vertices, r.num_edges_used, o.level);
+  print_read_report(l.read);
+  fmt::print("anchors        {} fixed{}\n", r.num_vertices_fixed,
+             r.gauge_anchor ? fmt::format(" (vertex {} held for the gauge)", *r.gauge_anchor)
+                            : std::string());
+  fmt::print("initial guess  {} ({:.3f} s)\n", init_description(choice), init_s);
+  fmt::print("solver         {}, {} Cholesky, {} thread{}{}\n", to_string(o.solver),
+             to_string(r.linear_solver), threads, threads == 1 ? "" : "s",
+             o.robust_kernel ? ", robust " + o.robust_kernel->to_string() : std::string());
+  fmt::print("chi2           {:.10g} -> {:.10g}\n", r.initial_chi2, r.final_chi2);
+  fmt::print("iterations     {} ({} accepted, {} factorizations{})\n", r.iterations,
+             r.accepted_steps, r.factorizations,
+             r.reused_factorizations == 0
+                 ? std::string()
+                 : fmt::format(", {} steps on a reused factorization, {} CG iterations",
+                               r.reused_factorizations, r.cg_iterations));
+  fmt::print("termination    {}: {}\n", to_string(r.termination), r.message);
+  fmt::print("time (s)       load {:.3f} | init {:.3f} | setup {:.3f} | linearize {:.3f} | "
+             "factorize {:.3f} | evaluate {:.3f} | optimize {:.3f}\n",
+             l.load_s, init_s, r.timing.setup, r.timing.linearize, r.timing.factorize,
+             r.timing.evaluate, r.timing.total);
+  fmt::print("sparsity       {} nonzeros in JᵀWJ (upper), {} in the factor\n",
+             r.hessian_nonzeros, r.factor_nonzeros);
+  if (gt) {
+    fmt::print("ground truth   position RMSE {:.6g} m, max {:.6g} m after alignment ({} vertices)\n",
+               gt->rmse, gt->max, gt->matched);
+  }
+  if (r.improved() && !a.output.empty()) fmt::print("output         {}\n", printable(a.output));
+  if (plotted) fmt::print("plot           {}\n", printable(a.plot));
+  if (issues.empty()) fmt::print("issues         none\n");
+  for (std::size_t k = 0; k < issues.size(); ++k) {
+    fmt::print("{}{}: {}\n", k == 0 ? "issues         " : "               ", issues[k].code,
+               issues[k].message);
+  }
+}
+
 template <class Graph>
 int run(Graph g, const GraphSlamArgs& a, const Loaded& l, int threads) {
   if (a.info) {
@@ -211,105 +333,12 @@ int run(Graph g, const GraphSlamArgs& a, const Loaded& l, int threads) {
     gt = aligned_position_error(g, truth);
   }
 
+  const GraphSlamReport report{a,      l,       o,       r,       choice, g.num_vertices(),
+                               threads, init_s, write_s, plotted, gt,     issues};
   if (a.json) {
-    JsonWriter j;
-    j.begin_object();
-    j.key("input").value(a.input);
-    j.key("dimension").value(l.dim);
-    j.key("vertices").value(static_cast<std::uint64_t>(g.num_vertices()));
-    write_read_report(j, a, l.read);
-    j.key("level").value(a.level);
-    j.key("edges_used").value(static_cast<std::uint64_t>(r.num_edges_used));
-    j.key("vertices_optimized").value(static_cast<std::uint64_t>(r.num_vertices_optimized));
-    j.key("vertices_fixed").value(static_cast<std::uint64_t>(r.num_vertices_fixed));
-    if (r.gauge_anchor) {
-      j.key("gauge_anchor").value(static_cast<std::uint64_t>(*r.gauge_anchor));
-    } else {
-      j.key("gauge_anchor").null();
-    }
-    j.key("init_requested").value(to_string(choice.requested));
-    j.key("init").value(to_string(choice.used));
-    j.key("init_note").value(choice.note);
-    j.key("init_chi2_as_is");
-    if (choice.as_is_chi2) j.value(*choice.as_is_chi2); else j.null();
-    j.key("init_chi2_chordal");
-    if (choice.chordal_chi2) j.value(*choice.chordal_chi2); else j.null();
-    j.key("solver").value(to_string(o.solver));
-    j.key("linear_solver").value(to_string(r.linear_solver));
-    j.key("threads").value(threads);
-    j.key("initial_chi2").value(r.initial_chi2);
-    j.key("final_chi2").value(r.final_chi2);
-    j.key("iterations").value(r.iterations);
-    j.key("accepted_steps").value(r.accepted_steps);
-    j.key("factorizations").value(r.factorizations);
-    j.key("reused_factorizations").value(r.reused_factorizations);
-    j.key("cg_iterations").value(r.cg_iterations);
-    j.key("termination").value(to_string(r.termination));
-    j.key("converged").value(r.termination == GraphTermination::Converged);
-    j.key("message").value(r.message);
-    j.key("time_s").begin_object();
-    j.key("load").value(l.load_s).key("init").value(init_s);
-    j.key("setup").value(r.timing.setup).key("linearize").value(r.timing.linearize);
-    j.key("factorize").value(r.timing.factorize).key("evaluate").value(r.timing.evaluate);
-    j.key("optimize").value(r.timing.total).key("write").value(write_s);
-    j.end_object();
-    j.key("hessian_nonzeros").value(static_cast<std::uint64_t>(r.hessian_nonzeros));
-    j.key("factor_nonzeros").value(static_cast<std::uint64_t>(r.factor_nonzeros));
-    j.key("ground_truth_rmse");
-    if (gt) j.value(gt->rmse); else j.null();
-    j.key("output");
-    if (r.improved() && !a.output.empty()) j.value(a.output); else j.null();
-    j.key("plot");
-    if (plotted) j.value(a.plot); else j.null();
-    j.key("problems").begin_array();
-    for (const auto& is : r.issues) {
-      j.begin_object();
-      j.key("edge");
-      if (is.edge == static_cast<std::size_t>(-1)) j.null(); else j.value(static_cast<std::uint64_t>(is.edge));
-      j.key("vertex").value(static_cast<std::uint64_t>(is.vertex));
-      j.key("message").value(is.message);
-      j.end_object();
-    }
-    j.end_array();
-    write_issues(j, issues);
-    j.end_object();
-    fmt::print("{}\n", j.str());
+    print_json(report);
   } else {
-    fmt::print("input          {} ({}D, {} vertices, {} edges used at level {})\n",
-               printable(a.input), l.dim, g.num_vertices(), r.num_edges_used, o.level);
-    print_read_report(l.read);
-    fmt::print("anchors        {} fixed{}\n", r.num_vertices_fixed,
-               r.gauge_anchor ? fmt::format(" (vertex {} held for the gauge)", *r.gauge_anchor)
-                              : std::string());
-    fmt::print("initial guess  {} ({:.3f} s)\n", init_description(choice), init_s);
-    fmt::print("solver         {}, {} Cholesky, {} thread{}{}\n", to_string(o.solver),
-               to_string(r.linear_solver), threads, threads == 1 ? "" : "s",
-               o.robust_kernel ? ", robust " + o.robust_kernel->to_string() : std::string());
-    fmt::print("chi2           {:.10g} -> {:.10g}\n", r.initial_chi2, r.final_chi2);
-    fmt::print("iterations     {} ({} accepted, {} factorizations{})\n", r.iterations,
-               r.accepted_steps, r.factorizations,
-               r.reused_factorizations == 0
-                   ? std::string()
-                   : fmt::format(", {} steps on a reused factorization, {} CG iterations",
-                                 r.reused_factorizations, r.cg_iterations));
-    fmt::print("termination    {}: {}\n", to_string(r.termination), r.message);
-    fmt::print("time (s)       load {:.3f} | init {:.3f} | setup {:.3f} | linearize {:.3f} | "
-               "factorize {:.3f} | evaluate {:.3f} | optimize {:.3f}\n",
-               l.load_s, init_s, r.timing.setup, r.timing.linearize, r.timing.factorize,
-               r.timing.evaluate, r.timing.total);
-    fmt::print("sparsity       {} nonzeros in JᵀWJ (upper), {} in the factor\n",
-               r.hessian_nonzeros, r.factor_nonzeros);
-    if (gt) {
-      fmt::print("ground truth   position RMSE {:.6g} m, max {:.6g} m after alignment ({} vertices)\n",
-                 gt->rmse, gt->max, gt->matched);
-    }
-    if (r.improved() && !a.output.empty()) fmt::print("output         {}\n", printable(a.output));
-    if (plotted) fmt::print("plot           {}\n", printable(a.plot));
-    if (issues.empty()) fmt::print("issues         none\n");
-    for (std::size_t k = 0; k < issues.size(); ++k) {
-      fmt::print("{}{}: {}\n", k == 0 ? "issues         " : "               ", issues[k].code,
-                 issues[k].message);
-    }
+    print_text(report);
   }
   if (!r.improved()) {
     fmt::print(stderr, "rove: graph-slam failed ({}): {}\n", to_string(r.termination), r.message);

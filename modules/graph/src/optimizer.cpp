@@ -88,6 +88,34 @@ class Engine {
   void write_back();
   bool check_edges_finite(GraphOptimizerResult& result);
 
+  // What the step computation carries from one iteration to the next.
+  struct StepState {
+    double lambda = 0.0;  // Levenberg–Marquardt damping
+    double nu = 2.0;      // its growth factor after a failure
+    double radius = 0.0;  // dog-leg trust radius
+    Eigen::VectorXd delta, gn_step, sd_step;
+    double sd_alpha = 0.0, g_h_g = 0.0;  // dog-leg: sd_step = −sd_alpha·g; gᵀHg
+    bool gn_exact = true;                // dog-leg: H δ_gn = −g (no damping was needed)
+    bool have_gn = false;                // dog-leg: gn_step is the current H's
+    double last_gain_ratio = 0.0;        // of the last accepted step
+    double predicted = 0.0;              // model decrease of delta
+  };
+  // A step computation either produced delta (and its predicted decrease),
+  // asks for another iteration (the damping grew), or ends the run (the
+  // result holds why).
+  enum class StepOutcome { Ready, Retry, Stop };
+  StepOutcome levenberg_marquardt_step(StepState& st, GraphIteration& rec,
+                                       GraphOptimizerResult& result, Stopwatch& phase);
+  StepOutcome gauss_newton_step(StepState& st, bool try_reuse, GraphIteration& rec,
+                                GraphOptimizerResult& result, Stopwatch& phase);
+  StepOutcome dog_leg_step(StepState& st, bool try_reuse, GraphIteration& rec,
+                           GraphOptimizerResult& result, Stopwatch& phase);
+  // After a rejected step: true when the run ends (the result holds why),
+  // false to try again with more damping or a smaller region.
+  bool reject_step(StepState& st, const GraphIteration& rec, double new_chi2, double x_norm,
+                   GraphOptimizerResult& result);
+  void adapt_after_accepted_step(StepState& st, const GraphIteration& rec) const;
+
   Graph& graph_;
   const GraphOptimizerOptions& options_;
   // One team for the whole run: linearization and χ² passes reuse its
@@ -551,6 +579,188 @@ void Engine<PoseT>::write_back() {
 }
 
 template <class PoseT>
+auto Engine<PoseT>::levenberg_marquardt_step(StepState& st, GraphIteration& rec,
+                                             GraphOptimizerResult& result, Stopwatch& phase)
+    -> StepOutcome {
+  rec.damping = st.lambda;
+  const bool ok = factorize_damped(st.lambda);
+  stale_factor_ok_ = false;
+  if (ok) solver_->solve(-g_, st.delta);
+  result.timing.factorize += phase.lap();
+  if (!ok || !st.delta.allFinite()) {
+    st.lambda *= st.nu;
+    st.nu *= 2.0;
+    rec.chi2 = chi2_;
+    result.history.push_back(rec);
+    if (st.lambda > 1e32) {
+      result.termination = GraphTermination::NumericalFailure;
+      result.message = "the damped normal equations stay singular even at λ = 1e32";
+      diagnose_factorization(last_failure_column_, result);
+      return StepOutcome::Stop;
+    }
+    return StepOutcome::Retry;
+  }
+  const Eigen::VectorXd& delta = st.delta;
+  Eigen::VectorXd Dd(delta.size());
+  for (Eigen::Index s = 0; s < delta.size(); ++s)
+    Dd[s] = st.lambda * std::clamp(diag_[static_cast<std::size_t>(s)], 1e-6, 1e32) * delta[s];
+  st.predicted = delta.dot(Dd - g_);
+  return StepOutcome::Ready;
+}
+
+template <class PoseT>
+auto Engine<PoseT>::gauss_newton_step(StepState& st, bool try_reuse, GraphIteration& rec,
+                                      GraphOptimizerResult& result, Stopwatch& phase)
+    -> StepOutcome {
+  const bool reused = try_reuse && solve_with_stale_factor(st.delta, result);
+  bool ok = reused;
+  if (reused) {
+    ++result.reused_factorizations;
+  } else {
+    ok = factorize_damped(0.0);
+    stale_factor_ok_ = ok;
+    if (ok) solver_->solve(-g_, st.delta);
+  }
+  result.timing.factorize += phase.lap();
+  if (!ok || !st.delta.allFinite()) {
+    result.termination = GraphTermination::NumericalFailure;
+    result.message = "the normal equations are singular (Gauss-Newton has no damping)";
+    diagnose_factorization(last_failure_column_, result);
+    if (!result.issues.empty()) result.message += ": " + result.issues.front().message;
+    rec.chi2 = chi2_;
+    result.history.push_back(rec);
+    return StepOutcome::Stop;
+  }
+  // Model decrease −(2gᵀδ + δᵀHδ); Hδ = −g when δ came from a factor.
+  const Eigen::VectorXd& delta = st.delta;
+  st.predicted =
+      reused ? -(2.0 * g_.dot(delta) + delta.dot(multiply_h(delta))) : -delta.dot(g_);
+  return StepOutcome::Ready;
+}
+
+template <class PoseT>
+auto Engine<PoseT>::dog_leg_step(StepState& st, bool try_reuse, GraphIteration& rec,
+                                 GraphOptimizerResult& result, Stopwatch& phase) -> StepOutcome {
+  if (!st.have_gn) {
+    if (try_reuse && solve_with_stale_factor(st.gn_step, result)) {
+      // H δ_gn = −g only to the CG tolerance: the model decrease of each
+      // step is then formed with H itself (below).
+      ++result.reused_factorizations;
+      st.gn_exact = false;
+    } else {
+      bool ok = factorize_damped(0.0);
+      st.gn_exact = ok;
+      stale_factor_ok_ = ok;
+      for (double mu = 1e-10; !ok && mu <= 1e-2; mu *= 100.0) ok = factorize_damped(mu);
+      if (ok) solver_->solve(-g_, st.gn_step);
+      if (!ok || !st.gn_step.allFinite()) {
+        result.timing.factorize += phase.lap();
+        result.termination = GraphTermination::NumericalFailure;
+        result.message = "the normal equations are singular";
+        diagnose_factorization(last_failure_column_, result);
+        if (!result.issues.empty()) result.message += ": " + result.issues.front().message;
+        return StepOutcome::Stop;
+      }
+    }
+    st.g_h_g = g_.dot(multiply_h(g_));
+    st.sd_alpha = st.g_h_g > 0.0 ? g_.squaredNorm() / st.g_h_g : 0.0;
+    st.sd_step = -st.sd_alpha * g_;
+    st.have_gn = true;
+    result.timing.factorize += phase.lap();
+  }
+  rec.damping = st.radius;
+  // Model decrease −(2gᵀδ + δᵀHδ). Every candidate δ is a combination
+  // of g and the Gauss–Newton step (H δ_gn = −g), so δᵀHδ follows from
+  // gᵀHg, formed once per factorization: no product with H per step
+  // (unless δ_gn came from a damped system, where H δ_gn ≠ −g).
+  const Eigen::VectorXd& gn_step = st.gn_step;
+  const Eigen::VectorXd& sd_step = st.sd_step;
+  const double radius = st.radius;
+  const double gn_norm = gn_step.norm();
+  const double sd_coef = -st.sd_alpha;  // sd_step = sd_coef·g
+  if (gn_norm <= radius) {
+    st.delta = gn_step;
+    st.predicted = -g_.dot(gn_step);
+  } else if (sd_step.norm() >= radius) {
+    const double t = -radius / g_.norm();  // δ = t·g
+    st.delta = t * g_;
+    st.predicted = -(2.0 * t * g_.squaredNorm() + t * t * st.g_h_g);
+  } else {
+    const Eigen::VectorXd d = gn_step - sd_step;
+    const double c = sd_step.dot(d), dd = d.squaredNorm();
+    const double beta =
+        (-c + std::sqrt(c * c + dd * (radius * radius - sd_step.squaredNorm()))) / dd;
+    st.delta = sd_step + beta * d;
+    // δ = (1 − β)·sd_coef·g + β·δ_gn, Hδ = (1 − β)·sd_coef·Hg − β·g.
+    const double a = (1.0 - beta) * sd_coef;
+    const double dHd = a * a * st.g_h_g - 2.0 * a * beta * g_.squaredNorm() +
+                       beta * beta * (-g_.dot(gn_step));
+    st.predicted = -(2.0 * g_.dot(st.delta) + dHd);
+  }
+  if (!st.gn_exact) st.predicted = -(2.0 * g_.dot(st.delta) + st.delta.dot(multiply_h(st.delta)));
+  result.timing.factorize += phase.lap();
+  return StepOutcome::Ready;
+}
+
+template <class PoseT>
+bool Engine<PoseT>::reject_step(StepState& st, const GraphIteration& rec, double new_chi2,
+                                double x_norm, GraphOptimizerResult& result) {
+  const GraphSolver method = options_.solver;
+  if (std::isfinite(new_chi2) && method != GraphSolver::GaussNewton &&
+      new_chi2 - chi2_ <= options_.function_tolerance * chi2_) {
+    // The step raised χ² by less than the function tolerance: the
+    // quadratic model has nothing left to give. Stop here, as Ceres
+    // does, rather than shrink the region (LM: refactorize) for a
+    // change the tolerance calls nothing.
+    result.termination = GraphTermination::Converged;
+    result.message =
+        fmt::format("function tolerance: a rejected step changed χ² by {:.3g} (relative) <= {:.3g}",
+                    (new_chi2 - chi2_) / std::max(chi2_, 1e-300), options_.function_tolerance);
+    return true;
+  }
+  if (method == GraphSolver::GaussNewton) {
+    result.termination = GraphTermination::NumericalFailure;
+    result.message = "the Gauss-Newton step gave a non-finite χ²";
+    return true;
+  }
+  if (method == GraphSolver::LevenbergMarquardt) {
+    st.lambda *= st.nu;
+    st.nu *= 2.0;
+    if (st.lambda > 1e32) {
+      result.termination = GraphTermination::NoProgress;
+      result.message = "no decrease of χ² even at λ = 1e32";
+      return true;
+    }
+    return false;
+  }
+  st.radius = 0.5 * std::min(st.radius, rec.step_norm);
+  if (st.radius <= options_.step_tolerance * (x_norm + options_.step_tolerance)) {
+    result.termination = GraphTermination::NoProgress;
+    result.message =
+        fmt::format("trust region shrank to {:.3g} without a decrease of χ²", st.radius);
+    return true;
+  }
+  return false;
+}
+
+template <class PoseT>
+void Engine<PoseT>::adapt_after_accepted_step(StepState& st, const GraphIteration& rec) const {
+  if (options_.solver == GraphSolver::LevenbergMarquardt) {
+    const double r = 2.0 * rec.gain_ratio - 1.0;
+    st.lambda *= std::max(1.0 / 3.0, 1.0 - r * r * r);
+    st.lambda = std::max(st.lambda, 1e-30);
+    st.nu = 2.0;
+  } else if (options_.solver == GraphSolver::DogLeg) {
+    if (rec.gain_ratio > 0.75) {
+      st.radius = std::max(st.radius, 3.0 * rec.step_norm);
+    } else if (rec.gain_ratio < 0.25) {
+      st.radius = 0.5 * std::min(st.radius, rec.step_norm);
+    }
+    st.have_gn = false;
+  }
+}
+
+template <class PoseT>
 GraphOptimizerResult Engine<PoseT>::run() {
   GraphOptimizerResult result;
   Stopwatch total;
@@ -588,14 +798,9 @@ GraphOptimizerResult Engine<PoseT>::run() {
   }
 
   const GraphSolver method = options_.solver;
-  double lambda = options_.initial_lambda;
-  double nu = 2.0;
-  double radius = options_.initial_trust_radius;
-  Eigen::VectorXd delta, gn_step, sd_step;
-  double sd_alpha = 0.0, g_h_g = 0.0;  // dog-leg: sd_step = −sd_alpha·g; gᵀHg
-  bool gn_exact = true;                // dog-leg: H δ_gn = −g (no damping was needed)
-  bool have_gn = false;
-  double last_gain_ratio = 0.0;  // of the last accepted step
+  StepState st;
+  st.lambda = options_.initial_lambda;
+  st.radius = options_.initial_trust_radius;
   std::vector<PoseT> trial;
   result.termination = GraphTermination::MaxIterations;
   result.message = fmt::format("reached the maximum of {} iterations", options_.max_iterations);
@@ -614,116 +819,23 @@ GraphOptimizerResult Engine<PoseT>::run() {
     GraphIteration rec;
     rec.iteration = it;
     result.iterations = it;
-    double predicted = 0.0;
     // Reuse the last factorization (dog-leg, Gauss–Newton) when the last
     // step landed where the quadratic model said: H has barely changed.
     // (reuse_pays_ is false when options_.reuse_factorization is.)
     const bool try_reuse = stale_factor_ok_ && reuse_pays_ &&
-                           std::abs(last_gain_ratio - 1.0) <= options_.reuse_gain_window;
-
+                           std::abs(st.last_gain_ratio - 1.0) <= options_.reuse_gain_window;
+    StepOutcome outcome;
     if (method == GraphSolver::LevenbergMarquardt) {
-      rec.damping = lambda;
-      const bool ok = factorize_damped(lambda);
-      stale_factor_ok_ = false;
-      if (ok) solver_->solve(-g_, delta);
-      result.timing.factorize += phase.lap();
-      if (!ok || !delta.allFinite()) {
-        lambda *= nu;
-        nu *= 2.0;
-        rec.chi2 = chi2_;
-        result.history.push_back(rec);
-        if (lambda > 1e32) {
-          result.termination = GraphTermination::NumericalFailure;
-          result.message = "the damped normal equations stay singular even at λ = 1e32";
-          diagnose_factorization(last_failure_column_, result);
-          break;
-        }
-        continue;
-      }
-      Eigen::VectorXd Dd(delta.size());
-      for (Eigen::Index s = 0; s < delta.size(); ++s)
-        Dd[s] = lambda * std::clamp(diag_[static_cast<std::size_t>(s)], 1e-6, 1e32) * delta[s];
-      predicted = delta.dot(Dd - g_);
+      outcome = levenberg_marquardt_step(st, rec, result, phase);
     } else if (method == GraphSolver::GaussNewton) {
-      bool reused = try_reuse && solve_with_stale_factor(delta, result);
-      bool ok = reused;
-      if (reused) {
-        ++result.reused_factorizations;
-      } else {
-        ok = factorize_damped(0.0);
-        stale_factor_ok_ = ok;
-        if (ok) solver_->solve(-g_, delta);
-      }
-      result.timing.factorize += phase.lap();
-      if (!ok || !delta.allFinite()) {
-        result.termination = GraphTermination::NumericalFailure;
-        result.message = "the normal equations are singular (Gauss-Newton has no damping)";
-        diagnose_factorization(last_failure_column_, result);
-        if (!result.issues.empty()) result.message += ": " + result.issues.front().message;
-        rec.chi2 = chi2_;
-        result.history.push_back(rec);
-        break;
-      }
-      // Model decrease −(2gᵀδ + δᵀHδ); Hδ = −g when δ came from a factor.
-      predicted = reused ? -(2.0 * g_.dot(delta) + delta.dot(multiply_h(delta))) : -delta.dot(g_);
+      outcome = gauss_newton_step(st, try_reuse, rec, result, phase);
     } else {
-      if (!have_gn) {
-        if (try_reuse && solve_with_stale_factor(gn_step, result)) {
-          // H δ_gn = −g only to the CG tolerance: the model decrease of each
-          // step is then formed with H itself (below).
-          ++result.reused_factorizations;
-          gn_exact = false;
-        } else {
-          bool ok = factorize_damped(0.0);
-          gn_exact = ok;
-          stale_factor_ok_ = ok;
-          for (double mu = 1e-10; !ok && mu <= 1e-2; mu *= 100.0) ok = factorize_damped(mu);
-          if (ok) solver_->solve(-g_, gn_step);
-          if (!ok || !gn_step.allFinite()) {
-            result.timing.factorize += phase.lap();
-            result.termination = GraphTermination::NumericalFailure;
-            result.message = "the normal equations are singular";
-            diagnose_factorization(last_failure_column_, result);
-            if (!result.issues.empty()) result.message += ": " + result.issues.front().message;
-            break;
-          }
-        }
-        g_h_g = g_.dot(multiply_h(g_));
-        sd_alpha = g_h_g > 0.0 ? g_.squaredNorm() / g_h_g : 0.0;
-        sd_step = -sd_alpha * g_;
-        have_gn = true;
-        result.timing.factorize += phase.lap();
-      }
-      rec.damping = radius;
-      // Model decrease −(2gᵀδ + δᵀHδ). Every candidate δ is a combination
-      // of g and the Gauss–Newton step (H δ_gn = −g), so δᵀHδ follows from
-      // gᵀHg, formed once per factorization: no product with H per step
-      // (unless δ_gn came from a damped system, where H δ_gn ≠ −g).
-      const double gn_norm = gn_step.norm();
-      const double sd_coef = -sd_alpha;  // sd_step = sd_coef·g
-      if (gn_norm <= radius) {
-        delta = gn_step;
-        predicted = -g_.dot(gn_step);
-      } else if (sd_step.norm() >= radius) {
-        const double t = -radius / g_.norm();  // δ = t·g
-        delta = t * g_;
-        predicted = -(2.0 * t * g_.squaredNorm() + t * t * g_h_g);
-      } else {
-        const Eigen::VectorXd d = gn_step - sd_step;
-        const double c = sd_step.dot(d), dd = d.squaredNorm();
-        const double beta =
-            (-c + std::sqrt(c * c + dd * (radius * radius - sd_step.squaredNorm()))) / dd;
-        delta = sd_step + beta * d;
-        // δ = (1 − β)·sd_coef·g + β·δ_gn, Hδ = (1 − β)·sd_coef·Hg − β·g.
-        const double a = (1.0 - beta) * sd_coef;
-        const double dHd = a * a * g_h_g - 2.0 * a * beta * g_.squaredNorm() +
-                           beta * beta * (-g_.dot(gn_step));
-        predicted = -(2.0 * g_.dot(delta) + dHd);
-      }
-      if (!gn_exact) predicted = -(2.0 * g_.dot(delta) + delta.dot(multiply_h(delta)));
-      result.timing.factorize += phase.lap();
+      outcome = dog_leg_step(st, try_reuse, rec, result, phase);
     }
+    if (outcome == StepOutcome::Stop) break;
+    if (outcome == StepOutcome::Retry) continue;
 
+    const Eigen::VectorXd& delta = st.delta;
     if (!delta.allFinite()) {
       // A finite but huge measurement (1e88 m) can overflow the dogleg
       // combination of the steps; stop honestly instead of applying NaN.
@@ -747,53 +859,20 @@ GraphOptimizerResult Engine<PoseT>::run() {
     result.timing.evaluate += phase.lap();
     const double actual = chi2_ - new_chi2;
     rec.chi2 = new_chi2;
-    rec.gain_ratio = predicted > 0.0 ? actual / predicted : 0.0;
+    rec.gain_ratio = st.predicted > 0.0 ? actual / st.predicted : 0.0;
     const bool finite = std::isfinite(new_chi2);
     const bool accept = finite && (method == GraphSolver::GaussNewton || new_chi2 < chi2_);
     rec.accepted = accept;
     result.history.push_back(rec);
 
     if (!accept) {
-      if (finite && method != GraphSolver::GaussNewton &&
-          new_chi2 - chi2_ <= options_.function_tolerance * chi2_) {
-        // The step raised χ² by less than the function tolerance: the
-        // quadratic model has nothing left to give. Stop here, as Ceres
-        // does, rather than shrink the region (LM: refactorize) for a
-        // change the tolerance calls nothing.
-        result.termination = GraphTermination::Converged;
-        result.message = fmt::format(
-            "function tolerance: a rejected step changed χ² by {:.3g} (relative) <= {:.3g}",
-            (new_chi2 - chi2_) / std::max(chi2_, 1e-300), options_.function_tolerance);
-        break;
-      }
-      if (method == GraphSolver::GaussNewton) {
-        result.termination = GraphTermination::NumericalFailure;
-        result.message = "the Gauss-Newton step gave a non-finite χ²";
-        break;
-      }
-      if (method == GraphSolver::LevenbergMarquardt) {
-        lambda *= nu;
-        nu *= 2.0;
-        if (lambda > 1e32) {
-          result.termination = GraphTermination::NoProgress;
-          result.message = "no decrease of χ² even at λ = 1e32";
-          break;
-        }
-      } else {
-        radius = 0.5 * std::min(radius, rec.step_norm);
-        if (radius <= options_.step_tolerance * (x_norm + options_.step_tolerance)) {
-          result.termination = GraphTermination::NoProgress;
-          result.message = fmt::format("trust region shrank to {:.3g} without a decrease of χ²",
-                                       radius);
-          break;
-        }
-      }
+      if (reject_step(st, rec, new_chi2, x_norm, result)) break;
       continue;
     }
 
     // Accepted step.
     ++result.accepted_steps;
-    last_gain_ratio = rec.gain_ratio;
+    st.last_gain_ratio = rec.gain_ratio;
     const double old_chi2 = chi2_;
     poses_.swap(trial);
     if (std::abs(old_chi2 - new_chi2) <= options_.function_tolerance * old_chi2) {
@@ -806,19 +885,7 @@ GraphOptimizerResult Engine<PoseT>::run() {
                                    options_.function_tolerance);
       break;
     }
-    if (method == GraphSolver::LevenbergMarquardt) {
-      const double r = 2.0 * rec.gain_ratio - 1.0;
-      lambda *= std::max(1.0 / 3.0, 1.0 - r * r * r);
-      lambda = std::max(lambda, 1e-30);
-      nu = 2.0;
-    } else if (method == GraphSolver::DogLeg) {
-      if (rec.gain_ratio > 0.75) {
-        radius = std::max(radius, 3.0 * rec.step_norm);
-      } else if (rec.gain_ratio < 0.25) {
-        radius = 0.5 * std::min(radius, rec.step_norm);
-      }
-      have_gn = false;
-    }
+    adapt_after_accepted_step(st, rec);
     linearize_edges(poses_, true);
     if (!assemble(result)) {
       result.timing.linearize += phase.lap();
