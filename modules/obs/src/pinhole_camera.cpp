@@ -29,8 +29,9 @@ bool PinholeCamera::has_distortion() const noexcept {
 }
 
 void PinholeCamera::check() const {
-  ROVE_CHECK_MSG(std::isfinite(fx) && fx > 0.0 && std::isfinite(fy) && fy > 0.0,
-                 "PinholeCamera: focal lengths must be finite and > 0 (fx = {}, fy = {})", fx, fy);
+  ROVE_CHECK_MSG(std::isfinite(fx) && fx != 0.0 && std::isfinite(fy) && fy != 0.0,
+                 "PinholeCamera: focal lengths must be finite and nonzero (fx = {}, fy = {})", fx,
+                 fy);
   ROVE_CHECK_MSG(std::isfinite(cx) && std::isfinite(cy),
                  "PinholeCamera: principal point must be finite (cx = {}, cy = {})", cx, cy);
   for (const double c : distortion) {

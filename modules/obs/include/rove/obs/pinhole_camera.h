@@ -29,9 +29,11 @@ struct PinholeCamera {
   std::uint32_t width = 0;
   /// Image height in pixels.
   std::uint32_t height = 0;
-  /// Focal length along u, pixels.
+  /// Focal length along u, pixels. Nonzero; negative for an image whose
+  /// columns are mirrored (u grows to the left of the optical frame's x).
   double fx = 0.0;
-  /// Focal length along v, pixels.
+  /// Focal length along v, pixels. Nonzero; negative for an image whose rows
+  /// are mirrored (ICL-NUIM's renderer: fy = −480).
   double fy = 0.0;
   /// Principal point u, pixels.
   double cx = 0.0;
@@ -43,7 +45,7 @@ struct PinholeCamera {
   /// True if every distortion coefficient is zero.
   bool has_distortion() const noexcept;
 
-  /// Throws InvalidArgument unless fx, fy are finite and > 0, cx, cy and
+  /// Throws InvalidArgument unless fx, fy are finite and nonzero, cx, cy and
   /// the distortion coefficients are finite.
   void check() const;
 
