@@ -27,6 +27,21 @@ void write_tum_trajectory(const std::string& path, const std::vector<TimedPose2>
   out.commit();
 }
 
+void write_tum_trajectory(const std::string& path, const std::vector<TimedPose3>& poses) {
+  AtomicOutputFile out(path);
+  out.write("# t x y z qx qy qz qw\n");
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const auto& p = poses[i];
+    const double t = p.time.valid() ? p.time.to_seconds() : static_cast<double>(i);
+    Eigen::Quaterniond q = p.pose.quaternion();
+    if (q.w() < 0.0) q.coeffs() = -q.coeffs();
+    const Eigen::Vector3d& x = p.pose.translation();
+    out.write(fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.9f} {:.9f} {:.9f} {:.9f}\n", t, x.x(),
+                          x.y(), x.z(), q.x(), q.y(), q.z(), q.w()));
+  }
+  out.commit();
+}
+
 std::vector<StampedPose3> parse_tum_trajectory(std::string_view text, std::string_view source) {
   static constexpr std::array<const char*, 8> kFields = {"t", "x", "y", "z", "qx", "qy", "qz", "qw"};
   std::vector<StampedPose3> out;

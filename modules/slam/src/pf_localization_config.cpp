@@ -1,7 +1,6 @@
 #include "rove/slam/pf_localization_config.h"
 
 #include <algorithm>
-#include <filesystem>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -9,11 +8,10 @@
 #include "rove/core/error.h"
 #include "rove/core/memory_budget.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
+#include "rove/slam/config_path.h"
 
 namespace rove {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr const char* kSec = "LocalizationExperiment";
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -128,15 +126,7 @@ void read_filter_sections(const IniFile& ini, PfLocalizationConfig& cfg) {
 }  // namespace
 
 std::string PfLocalizationConfig::resolve(const std::string& path, const std::string& key) const {
-  if (path.empty()) return path;
-  if (fs::exists(path)) return path;
-  const fs::path beside = fs::path(source).parent_path() / path;
-  if (fs::path(path).is_relative() && fs::exists(beside)) return beside.string();
-  throw ConfigError(source, kSec, key,
-                    fmt::format("'{}' does not exist{}", path,
-                                fs::path(path).is_relative()
-                                    ? fmt::format(" (also tried '{}')", beside.string())
-                                    : std::string()));
+  return resolve_config_path(source, kSec, key, path);
 }
 
 PfLocalizationConfig load_pf_localization_config(const IniFile& ini) {

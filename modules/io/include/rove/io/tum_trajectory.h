@@ -27,6 +27,16 @@ struct TimedPose2 {
 /// (rove/core/files.h); throws IoError if the file cannot be written.
 void write_tum_trajectory(const std::string& path, const std::vector<TimedPose2>& poses);
 
+/// A 3D pose at a time.
+struct TimedPose3 {
+  Timestamp time;  ///< when (invalid: unknown)
+  SE3d pose;       ///< T_world_robot
+};
+
+/// As the planar overload, for 3D poses: x, y, z with 6 decimals and the
+/// pose's unit quaternion (made qw >= 0) with 9.
+void write_tum_trajectory(const std::string& path, const std::vector<TimedPose3>& poses);
+
 /// Reads a TUM trajectory: blank and `#` lines are skipped, every other line
 /// holds 8 numbers. Throws IoError if the file cannot be read, ParseError
 /// (file, line, field) for a line with another count of fields, a number
