@@ -26,10 +26,10 @@ KfSlamConfig load_kf_slam_config(const IniFile& ini) {
   const ConfigSection app(ini, kApp, &cfg.ignored_keys);
   const ConfigSection slam(ini, kSlam, &cfg.ignored_keys);
   const ConfigSection kf(ini, kKalman, &cfg.ignored_keys);
-  if (!ini.has_section(kApp) && !ini.has_section(kSlam)) {
-    throw ConfigError(cfg.source, kApp, "",
-                      "the file has neither [MappingApplication] nor [RangeBearingKFSLAM]: not a "
-                      "kf-slam config");
+  if (!ini.has_section(kApp) && !ini.has_section(kSlam) && !ini.has_section(kKalman)) {
+    throw ConfigError(cfg.source, kSlam, "",
+                      "the file has none of [MappingApplication], [RangeBearingKFSLAM] and "
+                      "[RangeBearingKFSLAM_KalmanFilter]: not a kf-slam config");
   }
   cfg.dim = static_cast<int>(app.get_enum<KfImplementation>(
       "kf_implementation", KfImplementation::Slam3D,

@@ -73,7 +73,7 @@ struct KfSlamConfig {
 
 /// Reads a kf-slam configuration (see the file comment). Throws ConfigError
 /// (file, section, key, line) for an unknown key, a malformed value or a
-/// file without [MappingApplication] nor [RangeBearingKFSLAM].
+/// file with none of the three sections.
 KfSlamConfig load_kf_slam_config(const IniFile& ini);
 
 /// One step of a run: the state after it.
