@@ -37,6 +37,23 @@ TEST(TumTrajectory, WritesTimeTranslationAndTheYawQuaternion) {
             "1.000000 0.000000 0.000000 0 0 0 0.000000000 1.000000000\n");
 }
 
+// 3D poses round-trip through the reader (the quaternion made qw >= 0).
+TEST(TumTrajectory, WritesAndReadsThreeDimensionalPoses) {
+  const auto file = (std::filesystem::temp_directory_path() / "rove_tum_trajectory_3d.tum").string();
+  SE3d::Tangent xi;
+  xi << 1.0, -2.0, 0.5, 0.4, -0.3, 2.9;
+  const std::vector<TimedPose3> poses = {{Timestamp::from_ns(2'000'000'000), SE3d::exp(xi)},
+                                         {Timestamp::invalid(), SE3d()}};
+  write_tum_trajectory(file, poses);
+  const std::vector<StampedPose3> back = read_tum_trajectory(file);
+  std::filesystem::remove(file);
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_DOUBLE_EQ(back[0].time, 2.0);
+  EXPECT_DOUBLE_EQ(back[1].time, 1.0);
+  EXPECT_TRUE(back[0].pose.is_approx(poses[0].pose, 1e-6));
+  EXPECT_TRUE(back[1].pose.is_approx(SE3d(), 1e-9));
+}
+
 TEST(TumTrajectory, ReadsPosesAndRejectsBadLines) {
   const std::string file = ::testing::TempDir() + "/rove_tum_read.txt";
   std::ofstream(file) << "# t x y z qx qy qz qw\n\n1.5 1 2 3 0 0 0.7071067811865476 0.7071067811865476\n"

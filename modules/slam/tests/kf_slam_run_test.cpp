@@ -91,7 +91,7 @@ std::string write_small_log(const std::string& name, float bad_yaw) {
   const std::string path =
       (std::filesystem::temp_directory_path() / (name + std::to_string(::getpid()))).string();
   RoveRawlogWriterOptions wo;
-  wo.layout = RawlogLayout::kObservations;
+  wo.layout = RawlogLayout::Observations;
   RoveRawlogWriter w(path, wo);
   for (int k = 0; k < 2; ++k) {
     BearingRange b;

@@ -172,7 +172,7 @@ struct KfSlamResult {
   /// The options used.
   EkfSlamOptions options;
   /// The log's format.
-  RawlogFormat format = RawlogFormat::kMrpt;
+  RawlogFormat format = RawlogFormat::Mrpt;
   /// Every processed step.
   std::vector<KfSlamStep> steps;
   /// The map at the end.
