@@ -78,7 +78,7 @@ TEST(TumTrajectory, ReadsPosesAndRejectsBadLines) {
 }
 
 TEST(TumTrajectory, UnwritablePathIsAnIoError) {
-  EXPECT_THROW(write_tum_trajectory("/nonexistent-dir/path.tum", {}), IoError);
+  EXPECT_THROW(write_tum_trajectory("/nonexistent-dir/path.tum", std::vector<TimedPose2>{}), IoError);
 }
 
 }  // namespace
