@@ -1,6 +1,7 @@
 #include "rove/slam/branch_and_bound_2d.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -63,6 +64,30 @@ PrecomputedGridStack::PrecomputedGridStack(const ProbabilityGrid& grid, int dept
   }
 }
 
+std::uint32_t PrecomputedGridStack::sum_values(int h, std::span<const Eigen::Vector2i> cells,
+                                               const Eigen::Vector2i& lo, const Eigen::Vector2i& hi,
+                                               int dx, int dy) const noexcept {
+  const Level& l = levels_[static_cast<std::size_t>(h)];
+  const int ox = dx + l.pad, oy = dy + l.pad;
+  const std::uint8_t* data = l.cells.data();
+  const auto W = static_cast<std::size_t>(l.width);
+  std::uint32_t sum = 0;
+  if (lo.x() + ox >= 0 && lo.y() + oy >= 0 && hi.x() + ox < l.width && hi.y() + oy < l.height) {
+    // The whole scan lies inside the array: no check per cell.
+    for (const auto& c : cells) {
+      sum += data[static_cast<std::size_t>(c.x() + ox) + static_cast<std::size_t>(c.y() + oy) * W];
+    }
+    return sum;
+  }
+  for (const auto& c : cells) {
+    const auto x = static_cast<unsigned>(c.x() + ox), y = static_cast<unsigned>(c.y() + oy);
+    if (x < static_cast<unsigned>(l.width) && y < static_cast<unsigned>(l.height)) {
+      sum += data[static_cast<std::size_t>(x) + static_cast<std::size_t>(y) * W];
+    }
+  }
+  return sum;
+}
+
 std::size_t PrecomputedGridStack::memory_bytes() const noexcept {
   std::size_t n = 0;
   for (const auto& l : levels_) n += l.cells.capacity();
@@ -100,6 +125,7 @@ BranchAndBoundSearch::BranchAndBoundSearch(const PrecomputedGridStack& grids,
   linear_cells_ = static_cast<int>(std::ceil(window.linear / r));
   const double inv = 1.0 / r;
   scans_.resize(static_cast<std::size_t>(2 * n + 1));
+  boxes_.reserve(scans_.size());
   for (int a = 0; a < 2 * n + 1; ++a) {
     const SE2d T(initial_.translation().x(), initial_.translation().y(),
                  initial_.angle() + (a - n) * angular_step_);
@@ -110,14 +136,18 @@ BranchAndBoundSearch::BranchAndBoundSearch(const PrecomputedGridStack& grids,
       cells.emplace_back(static_cast<int>(std::floor(q.x() * inv)) - grids.offset().x(),
                          static_cast<int>(std::floor(q.y() * inv)) - grids.offset().y());
     }
+    Eigen::Vector2i lo = cells.front(), hi = cells.front();
+    for (const auto& c : cells) {
+      lo = lo.cwiseMin(c);
+      hi = hi.cwiseMax(c);
+    }
+    boxes_.emplace_back(lo, hi);
   }
 }
 
 double BranchAndBoundSearch::score_sum(int h, int a, int dx, int dy) const {
-  const auto& cells = scans_[static_cast<std::size_t>(a)];
-  std::uint32_t sum = 0;
-  for (const auto& c : cells) sum += grids_.value(h, c.x() + dx, c.y() + dy);
-  return static_cast<double>(sum);
+  const auto i = static_cast<std::size_t>(a);
+  return static_cast<double>(grids_.sum_values(h, scans_[i], boxes_[i].first, boxes_[i].second, dx, dy));
 }
 
 double BranchAndBoundSearch::score(int h, int a, int dx, int dy) const {
@@ -137,7 +167,7 @@ SE2d BranchAndBoundSearch::pose(int a, int dx, int dy) const {
               initial_.angle() + (a - n) * angular_step_);
 }
 
-void BranchAndBoundSearch::descend(std::vector<Candidate>& candidates, int h, const Exclusion& ex,
+void BranchAndBoundSearch::descend(std::span<Candidate> candidates, int h, const Exclusion& ex,
                                    Candidate& best, std::size_t& scored) const {
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate& x, const Candidate& y) { return x.score > y.score; });
@@ -149,17 +179,17 @@ void BranchAndBoundSearch::descend(std::vector<Candidate>& candidates, int h, co
       break;
     }
     const int half = 1 << (h - 1);
-    std::vector<Candidate> children;
-    children.reserve(4);
+    std::array<Candidate, 4> children;
+    std::size_t n = 0;
     for (const int ox : {0, half}) {
       for (const int oy : {0, half}) {
         const int dx = c.dx + ox, dy = c.dy + oy;
         if (dx > linear_cells_ || dy > linear_cells_) continue;
-        children.push_back({c.a, dx, dy, unchecked_score(h - 1, c.a, dx, dy)});
+        children[n++] = {c.a, dx, dy, unchecked_score(h - 1, c.a, dx, dy)};
         ++scored;
       }
     }
-    descend(children, h - 1, ex, best, scored);
+    descend(std::span<Candidate>(children.data(), n), h - 1, ex, best, scored);
   }
 }
 

@@ -78,8 +78,20 @@ SE2d LidarSlam::scan_pose(std::size_t i) const {
   // Node 0 is the graph's anchor at its front-end pose: the scans before it
   // keep theirs.
   if (r.node < 0) return r.T_local_robot;
-  const LidarSlamNode& n = nodes_[static_cast<std::size_t>(r.node)];
-  return n.T_world_robot * between(n.T_local_robot, r.T_local_robot);
+  const LidarSlamNode& a = nodes_[static_cast<std::size_t>(r.node)];
+  const SE2d C_a = a.T_world_robot * a.T_local_robot.inverse();
+  const auto next = static_cast<std::size_t>(r.node) + 1;
+  if (a.scan == i || next >= nodes_.size()) return C_a * r.T_local_robot;
+  // Between nodes a and b: the correction moves smoothly from a's to b's,
+  // so that the scans of a loop-corrected stretch do not jump at b.
+  const LidarSlamNode& b = nodes_[next];
+  const SE2d C_b = b.T_world_robot * b.T_local_robot.inverse();
+  double s = static_cast<double>(i - a.scan) / static_cast<double>(b.scan - a.scan);
+  if (r.time.valid() && a.time.valid() && b.time.valid()) {
+    const double span = b.time.to_seconds() - a.time.to_seconds();
+    if (span > 0.0) s = std::clamp((r.time.to_seconds() - a.time.to_seconds()) / span, 0.0, 1.0);
+  }
+  return C_a * SE2d::exp(s * between(C_a, C_b).log()) * r.T_local_robot;
 }
 
 SE2d LidarSlam::predict(Timestamp time, const std::optional<SE2d>& odometry_increment) const {

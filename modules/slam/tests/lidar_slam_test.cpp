@@ -101,7 +101,7 @@ Errors errors(const std::vector<SE2d>& est, const std::vector<SE2d>& truth) {
 }
 
 struct SlamRun {
-  std::vector<SE2d> path, odometry;
+  std::vector<SE2d> path, local, odometry;
   LidarSlamStats stats;
   std::vector<LidarLoopClosure> loops;
   std::vector<LidarSlamNode> nodes;
@@ -122,7 +122,10 @@ SlamRun drive(const SimLog& log, const LidarSlamOptions& options) {
     slam.add_scan(log.scans[k], log.scans[k]->timestamp, inc);
   }
   slam.finish();
-  for (std::size_t k = 0; k < slam.num_scans(); ++k) run.path.push_back(slam.scan_pose(k));
+  for (std::size_t k = 0; k < slam.num_scans(); ++k) {
+    run.path.push_back(slam.scan_pose(k));
+    run.local.push_back(slam.scan_local_pose(k));
+  }
   run.stats = slam.stats();
   run.loops = slam.loop_closures();
   run.nodes = slam.nodes();
@@ -175,6 +178,23 @@ TEST(LidarSlamGroundTruth, LoopClosureKeepsTwoLapsConsistent) {
     ++checked;
   }
   EXPECT_EQ(checked, with.stats.loops_accepted);
+  // A node's scan has the node's optimized pose. Between two nodes a and b
+  // the correction C = T_world_robot · T_local_robot⁻¹ moves from a's to
+  // b's in equal steps (the scans are equally spaced in time), rather than
+  // jumping to b's at b.
+  for (const auto& n : with.nodes) EXPECT_TRUE(with.path[n.scan].is_approx(n.T_world_robot, 1e-9));
+  const auto correction = [&](std::size_t k) { return with.path[k] * with.local[k].inverse(); };
+  std::size_t between = 0;
+  for (std::size_t m = 1; m < with.nodes.size(); ++m) {
+    const std::size_t a = with.nodes[m - 1].scan, b = with.nodes[m].scan;
+    const double total = (correction(a).inverse() * correction(b)).log().norm();
+    for (std::size_t k = a; k < b; ++k) {
+      const double step = (correction(k).inverse() * correction(k + 1)).log().norm();
+      EXPECT_NEAR(step, total / static_cast<double>(b - a), 1e-9 + 1e-6 * total) << "scan " << k;
+    }
+    between += b - a - 1;
+  }
+  EXPECT_GT(between, 0u);
 }
 
 TEST(LidarSlam, ScansWithoutReturnsGetThePredictedPose) {

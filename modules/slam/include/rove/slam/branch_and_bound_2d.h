@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -57,6 +58,12 @@ class PrecomputedGridStack {
     if (x >= static_cast<unsigned>(l.width) || y >= static_cast<unsigned>(l.height)) return 0;
     return l.cells[static_cast<std::size_t>(x) + static_cast<std::size_t>(y) * static_cast<std::size_t>(l.width)];
   }
+  /// The sum of value(h, c.x() + dx, c.y() + dy) over `cells`, whose
+  /// bounding box is [lo, hi] (inclusive, as computed by the caller: the
+  /// per-cell range checks are skipped when the shifted box lies inside
+  /// height h's array). Precondition: 0 <= h <= depth() (unchecked).
+  std::uint32_t sum_values(int h, std::span<const Eigen::Vector2i> cells, const Eigen::Vector2i& lo,
+                           const Eigen::Vector2i& hi, int dx, int dy) const noexcept;
   /// The probability an 8-bit value stands for.
   static double to_probability(double value) noexcept {
     return ProbabilityGrid::kMinProbability +
@@ -155,11 +162,12 @@ class BranchAndBoundSearch {
       return radius_cells > 0.0 && (Eigen::Vector2d(dx, dy) - center_cells).norm() <= radius_cells;
     }
   };
-  void descend(std::vector<Candidate>& candidates, int h, const Exclusion& ex, Candidate& best,
+  void descend(std::span<Candidate> candidates, int h, const Exclusion& ex, Candidate& best,
                std::size_t& scored) const;
 
   const PrecomputedGridStack& grids_;
   std::vector<std::vector<Eigen::Vector2i>> scans_;  // per angle: cells at zero offset
+  std::vector<std::pair<Eigen::Vector2i, Eigen::Vector2i>> boxes_;  // per angle: cells' bounding box
   SE2d initial_;
   double angular_step_ = 0.0;
   int linear_cells_ = 0;

@@ -35,8 +35,8 @@
 ///    New nodes are placed in the world by the latest correction of the
 ///    local frame.
 ///
-/// Every scan's pose in the world is its front-end pose relative to the
-/// node before it, moved with that node's optimized pose.
+/// Every scan's pose in the world is its front-end pose moved by the
+/// correction of the nodes around it (scan_pose).
 ///
 /// Thread-safety: thread-compatible. Everything runs on the calling thread.
 
@@ -230,9 +230,12 @@ class LidarSlam {
   std::size_t num_scans() const noexcept { return scans_.size(); }
   /// Time of scan i. Precondition: i < num_scans().
   Timestamp scan_time(std::size_t i) const;
-  /// World pose T_world_robot of scan i: its front-end pose relative to
-  /// the node at or before it, moved with that node's world pose (the
-  /// front-end pose itself before the first node). Precondition: i < num_scans().
+  /// World pose T_world_robot of scan i. A node's is its optimized pose;
+  /// a scan between two nodes takes its front-end pose through the
+  /// correction C = T_world_robot · T_local_robot⁻¹ of those nodes,
+  /// interpolated on SE(2) by the scan's time between theirs (by its index
+  /// when times are missing); after the last node, that node's correction;
+  /// before the first node, its front-end pose. Precondition: i < num_scans().
   SE2d scan_pose(std::size_t i) const;
   /// Front-end pose T_local_robot of scan i.
   SE2d scan_local_pose(std::size_t i) const;
