@@ -136,7 +136,7 @@ TEST(ScanPoints2D, KeepsTheRangeIntervalAndThinsByVoxel) {
   RangeScan2D scan;
   scan.aperture = std::numbers::pi;
   scan.max_range = 80.0f;
-  // 181 rays: 0.02 m (too close), 1 m, 40 m (too far), NaN, repeated.
+  // 181 rays: 0.02 m (too close), 1 m, 40 m (beyond max_range 30), NaN, repeated.
   std::vector<float> r;
   for (int i = 0; i < 181; ++i) {
     const float v[4] = {0.02f, 1.0f, 40.0f, std::nanf("")};
@@ -144,6 +144,7 @@ TEST(ScanPoints2D, KeepsTheRangeIntervalAndThinsByVoxel) {
   }
   scan.set_ranges(r);
   ScanPointsOptions o;
+  o.max_range = 30.0;
   o.voxel_size = 0.0;
   const ScanPoints2D p = scan_points_2d(scan, o);
   EXPECT_EQ(p.rays, 181u);
