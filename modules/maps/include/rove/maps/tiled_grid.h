@@ -1,0 +1,212 @@
+#pragma once
+/// \file
+/// TiledGrid: an unbounded 2D occupancy grid stored as 32 × 32-cell tiles
+/// shared copy-on-write, for filters that keep one map per hypothesis (a
+/// Rao-Blackwellized particle filter's particles). Copying a TiledGrid
+/// copies only its table of tile pointers; a write copies the one tile it
+/// touches if another grid still shares it. Memory therefore grows with
+/// what the copies change, not with copies × grid.
+///
+/// Cells hold the same 8-bit log-odds of being FREE as OccupancyGrid
+/// (grid_logodds.h, MRPT's scale): 1 = free, 0 = occupied, 0.5 = unknown,
+/// a cell never written reads as unknown. Cell (cx, cy) covers
+/// [cx·res, (cx+1)·res) × [cy·res, (cy+1)·res) (meters, map frame): the
+/// cell boundaries of an OccupancyGrid whose limits are multiples of the
+/// resolution, as MRPT snaps them. Beside its cells each tile keeps one bit
+/// per cell, set when the cell is occupied (p(free) < 0.5, as the
+/// likelihood field counts it), from which distances to the nearest
+/// occupied cell are found without a precomputed field.
+///
+/// Thread-safety: thread-compatible. Two grids that share tiles may be
+/// read and written from different threads (a shared tile is never written
+/// in place).
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "rove/maps/grid_insertion.h"
+#include "rove/maps/grid_likelihood.h"
+#include "rove/maps/occupancy_grid.h"
+#include "rove/math/se2.h"
+#include "rove/obs/range_scan_2d.h"
+
+namespace rove {
+
+/// One tile of a TiledGrid: 32 × 32 cells row by row and their occupied bits.
+struct GridTile {
+  /// log2 of the tile side, cells.
+  static constexpr int kLogSide = 5;
+  /// Tile side, cells.
+  static constexpr int kSide = 1 << kLogSide;
+  /// Cells per tile.
+  static constexpr int kCells = kSide * kSide;
+  /// Log-odds cells (OccupancyGrid's values), index lx + ly·kSide.
+  std::array<std::int8_t, kCells> cells{};
+  /// Bit lx of occupied[ly] is set when cell (lx, ly) is occupied
+  /// (its value is below the value of p = 0.5).
+  std::array<std::uint32_t, kSide> occupied{};
+  /// Recomputes `occupied` from `cells`; true if it changed.
+  bool update_occupied();
+};
+
+/// What insert_scan on a TiledGrid did.
+struct TiledInsertResult {
+  /// The insertion's own result (status, rays).
+  GridInsertResult insertion;
+  /// Tiles whose cells changed.
+  std::size_t tiles_changed = 0;
+  /// Of those, tiles that were shared with another grid and were copied.
+  std::size_t tiles_copied = 0;
+};
+
+/// An unbounded occupancy grid of copy-on-write tiles (see the file comment).
+class TiledGrid {
+ public:
+  /// An empty grid (every cell unknown) of square cells of `resolution`
+  /// meters. Precondition (InvalidArgument): resolution finite and > 0.
+  explicit TiledGrid(float resolution = 0.05f);
+
+  /// Cell side, meters.
+  float resolution() const noexcept { return resolution_; }
+  /// Column of world x: ⌊x / res⌋ (any finite x; the result saturates at
+  /// ±2³⁰).
+  int x_to_idx(double x) const noexcept { return to_idx(x); }
+  /// Row of world y: ⌊y / res⌋.
+  int y_to_idx(double y) const noexcept { return to_idx(y); }
+  /// True until a scan was inserted or a cell set.
+  bool empty() const noexcept { return empty_; }
+
+  /// The raw log-odds value of cell (cx, cy); 0 (unknown) where never written.
+  std::int8_t cell(int cx, int cy) const noexcept;
+  /// Probability that cell (cx, cy) is free (0.5 where never written).
+  float free_probability(int cx, int cy) const noexcept {
+    return LogOddsLut<std::int8_t>::instance().l2p(cell(cx, cy));
+  }
+  /// True if cell (cx, cy) is occupied (p(free) < 0.5).
+  bool occupied(int cx, int cy) const noexcept;
+  /// Sets cell (cx, cy) (copying its tile first if it is shared).
+  /// Precondition (InvalidArgument): |cx|, |cy| < 2³⁰.
+  void set_cell(int cx, int cy, std::int8_t value);
+
+  /// Squared distance, in cells², from cell (cx, cy) to the nearest
+  /// occupied cell (cell centers), if it is at most `max_cells`²; else
+  /// a value above max_cells². Precondition (InvalidArgument):
+  /// 0 ≤ max_cells < 32.
+  std::uint32_t squared_distance_to_occupied(int cx, int cy, int max_cells) const;
+
+  /// The cells as an OccupancyGrid covering every tile written (limits on
+  /// tile boundaries, so cell (cx, cy) of this grid is the same world cell
+  /// there); an empty grid gives a 1-tile grid around the origin.
+  OccupancyGrid to_occupancy_grid() const;
+  /// The cells of `grid` (whose limits must be multiples of the
+  /// resolution, as MRPT's are) written into this grid, which must have the
+  /// same resolution. Precondition (InvalidArgument): same resolution,
+  /// limits on the cell lattice within 10⁻³ cell.
+  void assign(const OccupancyGrid& grid);
+
+  /// Tiles with storage (written at least once).
+  std::size_t tile_count() const noexcept;
+  /// The storage of the tile holding cell (cx, cy), or null if never
+  /// written. Two grids sharing a tile return the same pointer.
+  const GridTile* tile_at(int cx, int cy) const noexcept;
+  /// The distinct tiles of all `grids` (shared tiles counted once) and
+  /// their bytes: the memory the maps of a particle set really hold.
+  static std::size_t distinct_tiles(std::span<const TiledGrid* const> grids);
+
+  /// Exact equality of the cells (storage sharing is not compared; a tile
+  /// of unknown cells equals a missing one).
+  friend bool operator==(const TiledGrid& a, const TiledGrid& b);
+
+  /// Tile coordinates of a cell coordinate.
+  static int tile_of(int c) noexcept { return c >> GridTile::kLogSide; }
+
+ private:
+  friend TiledInsertResult insert_scan(TiledGrid& grid, const RangeScan2D& scan,
+                                       const SE2d& T_map_robot,
+                                       const GridInsertionOptions& options);
+  int to_idx(double v) const noexcept;
+  // Makes tiles [tx0, tx1] × [ty0, ty1] addressable (growing the table).
+  void reserve_tiles(int tx0, int tx1, int ty0, int ty1);
+  std::shared_ptr<GridTile>* slot(int tx, int ty) noexcept;
+  const std::shared_ptr<GridTile>* slot(int tx, int ty) const noexcept;
+  // The tile at (tx, ty) ready for writing: created, or copied when shared.
+  GridTile& writable(int tx, int ty, bool* copied = nullptr);
+  std::uint32_t row_bits(int tx, int ty, int ly) const noexcept;
+
+  float resolution_;
+  double inv_resolution_;
+  // Tile table: tiles (tx0_ + i, ty0_ + j) at i + j·ntx_.
+  int tx0_ = 0, ty0_ = 0, ntx_ = 0, nty_ = 0;
+  std::vector<std::shared_ptr<GridTile>> tiles_;
+  bool empty_ = true;
+};
+
+/// Inserts `scan`, taken with the robot at T_map_robot, into `grid` with
+/// MRPT's ray casting and options: the cells the scan can reach are put in
+/// an OccupancyGrid window, insert_scan (grid_insertion.h) runs there
+/// unchanged, and the tiles whose cells changed are written back (copied
+/// first when shared). So the cells are exactly those insert_scan gives on
+/// a flat grid. Throws InvalidArgument if scan.check() or options.check()
+/// fails or the scan reaches beyond ±2³⁰ cells.
+TiledInsertResult insert_scan(TiledGrid& grid, const RangeScan2D& scan, const SE2d& T_map_robot,
+                              const GridInsertionOptions& options = {});
+
+/// A scan's points ready for repeated likelihood evaluation in tiled grids:
+/// the points of MRPT's likelihood-field method (mrpt_scan_points with half
+/// a cell of minimum spacing, then one in LF_decimation when there are 10
+/// or more), robot frame, meters.
+struct TiledScanPoints {
+  /// x and y of the points, robot frame, meters.
+  std::vector<double> xs, ys;
+  /// False when the scan is not horizontal or not at the map altitude
+  /// (MRPT then gives every pose the same value, −10).
+  bool usable = true;
+};
+
+/// MRPT's likelihood field (Thrun, Burgard, Fox, "Probabilistic Robotics",
+/// 2005, §6.4, Table 6.3; likelihoodMethod = 4) over a TiledGrid: the
+/// values of GridLikelihoodModel's kLikelihoodFieldThrun for the same cells
+/// (per point ln(zRandom/maxRange + zHit·exp(−d²/(2σ²))), d the distance
+/// between the point's cell and the nearest occupied cell, capped at
+/// LF_maxCorrsDistance), but found per point from the tiles' occupied bits
+/// instead of a field precomputed over the whole grid, so a grid changed by
+/// an insertion needs no refresh. Unlike the flat grid's last row and
+/// column, every cell is inside. Immutable; thread-safe.
+class TiledLikelihoodField {
+ public:
+  /// The model for grids of `resolution` meters. Throws InvalidArgument if
+  /// options.check() fails, the method is not kLikelihoodFieldThrun, or
+  /// LF_maxCorrsDistance spans 32 cells or more.
+  TiledLikelihoodField(float resolution, GridLikelihoodOptions options,
+                       GridInsertionOptions insertion = {});
+
+  /// The scan's points (see TiledScanPoints). Throws InvalidArgument if
+  /// scan.check() fails.
+  TiledScanPoints prepare(const RangeScan2D& scan) const;
+  /// Log-likelihood of the prepared scan with the robot at T_map_robot.
+  /// Precondition (InvalidArgument): grid.resolution() is this model's.
+  double log_likelihood(const TiledGrid& grid, const TiledScanPoints& scan,
+                        const SE2d& T_map_robot) const;
+  /// Fraction of the prepared points within LF_maxCorrsDistance of an
+  /// occupied cell with the robot at T_map_robot (1 for no points).
+  double fit(const TiledGrid& grid, const TiledScanPoints& scan, const SE2d& T_map_robot) const;
+  /// The options.
+  const GridLikelihoodOptions& options() const noexcept { return options_; }
+  /// The search radius, cells.
+  int radius_cells() const noexcept { return radius_; }
+
+ private:
+  float resolution_;
+  GridLikelihoodOptions options_;
+  GridInsertionOptions insertion_;
+  int radius_ = 0;
+  std::uint32_t cap_cells_ = 0;     // d² (cells²) at or above which the value is capped
+  std::vector<double> value_;       // per d² < cap_cells_
+  double capped_ = 0.0;
+};
+
+}  // namespace rove

@@ -1,0 +1,494 @@
+#include "rove/maps/tiled_grid.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <unordered_set>
+
+#include "rove/core/check.h"
+#include "rove/poses/pose2.h"
+#include "rove/poses/pose3.h"
+
+namespace rove {
+namespace {
+
+constexpr int kSide = GridTile::kSide;
+constexpr int kLog = GridTile::kLogSide;
+constexpr int kMask = kSide - 1;
+// Cell coordinates stay within ±2³⁰ so tile and window arithmetic cannot
+// overflow an int.
+constexpr int kCellLimit = 1 << 30;
+
+// A cell is occupied when its value is below this (p(free) < 0.5), as the
+// likelihood field and the distance transform of the flat grid count it.
+std::int8_t occupied_below() {
+  static const std::int8_t v = LogOddsLut<std::int8_t>::instance().p2l(0.5f);
+  return v;
+}
+
+std::uint32_t row_occupied(const std::int8_t* row, std::int8_t below) {
+  std::uint32_t bits = 0;
+  for (int x = 0; x < kSide; ++x) bits |= static_cast<std::uint32_t>(row[x] < below) << x;
+  return bits;
+}
+
+const std::array<std::int8_t, GridTile::kCells>& unknown_cells() {
+  static const std::array<std::int8_t, GridTile::kCells> zeros{};
+  return zeros;
+}
+
+}  // namespace
+
+bool GridTile::update_occupied() {
+  const std::int8_t below = occupied_below();
+  bool changed = false;
+  for (int y = 0; y < kSide; ++y) {
+    const std::uint32_t bits = row_occupied(cells.data() + y * kSide, below);
+    changed = changed || bits != occupied[static_cast<std::size_t>(y)];
+    occupied[static_cast<std::size_t>(y)] = bits;
+  }
+  return changed;
+}
+
+TiledGrid::TiledGrid(float resolution) : resolution_(resolution) {
+  ROVE_CHECK_MSG(std::isfinite(resolution) && resolution > 0.0f,
+                 "a tiled grid needs a finite resolution > 0, got {}", resolution);
+  inv_resolution_ = 1.0 / static_cast<double>(resolution);
+}
+
+int TiledGrid::to_idx(double v) const noexcept {
+  const double q = std::floor(v * inv_resolution_);
+  if (!(q > -kCellLimit)) return -kCellLimit;  // also NaN
+  if (q >= kCellLimit) return kCellLimit;
+  return static_cast<int>(q);
+}
+
+std::shared_ptr<GridTile>* TiledGrid::slot(int tx, int ty) noexcept {
+  const int i = tx - tx0_, j = ty - ty0_;
+  if (static_cast<unsigned>(i) >= static_cast<unsigned>(ntx_) ||
+      static_cast<unsigned>(j) >= static_cast<unsigned>(nty_)) {
+    return nullptr;
+  }
+  return &tiles_[static_cast<std::size_t>(i) + static_cast<std::size_t>(j) * static_cast<std::size_t>(ntx_)];
+}
+
+const std::shared_ptr<GridTile>* TiledGrid::slot(int tx, int ty) const noexcept {
+  return const_cast<TiledGrid*>(this)->slot(tx, ty);
+}
+
+const GridTile* TiledGrid::tile_at(int cx, int cy) const noexcept {
+  const auto* s = slot(tile_of(cx), tile_of(cy));
+  return s != nullptr ? s->get() : nullptr;
+}
+
+std::int8_t TiledGrid::cell(int cx, int cy) const noexcept {
+  const GridTile* t = tile_at(cx, cy);
+  return t != nullptr ? t->cells[static_cast<std::size_t>((cx & kMask) + (cy & kMask) * kSide)] : 0;
+}
+
+bool TiledGrid::occupied(int cx, int cy) const noexcept {
+  const GridTile* t = tile_at(cx, cy);
+  return t != nullptr && ((t->occupied[static_cast<std::size_t>(cy & kMask)] >> (cx & kMask)) & 1u);
+}
+
+void TiledGrid::reserve_tiles(int tx0, int tx1, int ty0, int ty1) {
+  if (ntx_ > 0 && tx0 >= tx0_ && tx1 < tx0_ + ntx_ && ty0 >= ty0_ && ty1 < ty0_ + nty_) return;
+  // Grow with slack so that a robot exploring step by step rarely regrows.
+  constexpr int kSlack = 4;
+  int nx0 = tx0 - kSlack, nx1 = tx1 + kSlack, ny0 = ty0 - kSlack, ny1 = ty1 + kSlack;
+  if (ntx_ > 0) {
+    nx0 = std::min(nx0, tx0_);
+    nx1 = std::max(nx1, tx0_ + ntx_ - 1);
+    ny0 = std::min(ny0, ty0_);
+    ny1 = std::max(ny1, ty0_ + nty_ - 1);
+  }
+  const int ntx = nx1 - nx0 + 1, nty = ny1 - ny0 + 1;
+  std::vector<std::shared_ptr<GridTile>> tiles(static_cast<std::size_t>(ntx) * static_cast<std::size_t>(nty));
+  for (int j = 0; j < nty_; ++j) {
+    for (int i = 0; i < ntx_; ++i) {
+      auto& src = tiles_[static_cast<std::size_t>(i) + static_cast<std::size_t>(j) * static_cast<std::size_t>(ntx_)];
+      const int ni = tx0_ + i - nx0, nj = ty0_ + j - ny0;
+      tiles[static_cast<std::size_t>(ni) + static_cast<std::size_t>(nj) * static_cast<std::size_t>(ntx)] = std::move(src);
+    }
+  }
+  tiles_ = std::move(tiles);
+  tx0_ = nx0;
+  ty0_ = ny0;
+  ntx_ = ntx;
+  nty_ = nty;
+}
+
+GridTile& TiledGrid::writable(int tx, int ty, bool* copied) {
+  reserve_tiles(tx, tx, ty, ty);
+  std::shared_ptr<GridTile>& s = *slot(tx, ty);
+  if (copied != nullptr) *copied = false;
+  if (!s) {
+    s = std::make_shared<GridTile>();
+  } else if (s.use_count() > 1) {
+    // Only a grid holding a reference can raise the count, so a count of 1
+    // seen here stays 1: writing in place is then safe.
+    s = std::make_shared<GridTile>(*s);
+    if (copied != nullptr) *copied = true;
+  }
+  empty_ = false;
+  return *s;
+}
+
+void TiledGrid::set_cell(int cx, int cy, std::int8_t value) {
+  ROVE_CHECK_MSG(cx > -kCellLimit && cx < kCellLimit && cy > -kCellLimit && cy < kCellLimit,
+                 "cell ({}, {}) is beyond the tiled grid's ±2^30 cells", cx, cy);
+  GridTile& t = writable(tile_of(cx), tile_of(cy));
+  const int lx = cx & kMask, ly = cy & kMask;
+  t.cells[static_cast<std::size_t>(lx + ly * kSide)] = value;
+  std::uint32_t& row = t.occupied[static_cast<std::size_t>(ly)];
+  row = (row & ~(1u << lx)) | (static_cast<std::uint32_t>(value < occupied_below()) << lx);
+}
+
+std::uint32_t TiledGrid::row_bits(int tx, int ty, int ly) const noexcept {
+  const auto* s = slot(tx, ty);
+  return (s != nullptr && *s) ? (*s)->occupied[static_cast<std::size_t>(ly)] : 0u;
+}
+
+std::uint32_t TiledGrid::squared_distance_to_occupied(int cx, int cy, int max_cells) const {
+  ROVE_CHECK_MSG(max_cells >= 0 && max_cells < kSide, "max_cells = {} is outside [0, 32)", max_cells);
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  const int tx = tile_of(cx), lx = cx & kMask;
+  std::uint32_t best = kNone;
+  // Rows outward from the cell's own; a row |dy| away cannot beat dy².
+  for (int k = 0; k <= max_cells; ++k) {
+    if (static_cast<std::uint32_t>(k) * static_cast<std::uint32_t>(k) >= best) break;
+    for (int sign = 0; sign < (k == 0 ? 1 : 2); ++sign) {
+      const int y = sign == 0 ? cy + k : cy - k;
+      const int ty = tile_of(y), ly = y & kMask;
+      const std::uint32_t center = row_bits(tx, ty, ly);
+      int dx = kSide + 1;
+      // Nearest occupied cell at or right of cx, then at or left of it.
+      if (const std::uint32_t r = center >> lx; r != 0) {
+        dx = std::countr_zero(r);
+      } else if (const std::uint32_t right = row_bits(tx + 1, ty, ly); right != 0) {
+        dx = (kSide - lx) + std::countr_zero(right);
+      }
+      if (dx > 0) {
+        if (const std::uint32_t l = center << (kMask - lx); l != 0) {
+          dx = std::min(dx, std::countl_zero(l));
+        } else if (const std::uint32_t left = row_bits(tx - 1, ty, ly); left != 0) {
+          dx = std::min(dx, lx + 1 + std::countl_zero(left));
+        }
+      }
+      if (dx <= kSide) {
+        const auto d2 = static_cast<std::uint32_t>(dx * dx + k * k);
+        best = std::min(best, d2);
+      }
+    }
+  }
+  return best;
+}
+
+std::size_t TiledGrid::tile_count() const noexcept {
+  return static_cast<std::size_t>(std::count_if(tiles_.begin(), tiles_.end(),
+                                                [](const auto& t) { return t != nullptr; }));
+}
+
+std::size_t TiledGrid::distinct_tiles(std::span<const TiledGrid* const> grids) {
+  std::unordered_set<const GridTile*> seen;
+  for (const TiledGrid* g : grids) {
+    ROVE_CHECK(g != nullptr);
+    for (const auto& t : g->tiles_) {
+      if (t) seen.insert(t.get());
+    }
+  }
+  return seen.size();
+}
+
+OccupancyGrid TiledGrid::to_occupancy_grid() const {
+  int tx_min = std::numeric_limits<int>::max(), tx_max = std::numeric_limits<int>::min();
+  int ty_min = tx_min, ty_max = tx_max;
+  for (int j = 0; j < nty_; ++j) {
+    for (int i = 0; i < ntx_; ++i) {
+      if (!tiles_[static_cast<std::size_t>(i) + static_cast<std::size_t>(j) * static_cast<std::size_t>(ntx_)]) continue;
+      tx_min = std::min(tx_min, tx0_ + i);
+      tx_max = std::max(tx_max, tx0_ + i);
+      ty_min = std::min(ty_min, ty0_ + j);
+      ty_max = std::max(ty_max, ty0_ + j);
+    }
+  }
+  if (tx_min > tx_max) tx_min = tx_max = ty_min = ty_max = 0;
+  const auto sx = static_cast<std::uint32_t>((tx_max - tx_min + 1) * kSide);
+  const auto sy = static_cast<std::uint32_t>((ty_max - ty_min + 1) * kSide);
+  std::vector<std::int8_t> cells(static_cast<std::size_t>(sx) * sy, 0);
+  for (int ty = ty_min; ty <= ty_max; ++ty) {
+    for (int tx = tx_min; tx <= tx_max; ++tx) {
+      const auto* s = slot(tx, ty);
+      if (s == nullptr || !*s) continue;
+      for (int ly = 0; ly < kSide; ++ly) {
+        const std::size_t row = static_cast<std::size_t>((ty - ty_min) * kSide + ly) * sx +
+                                static_cast<std::size_t>((tx - tx_min) * kSide);
+        std::memcpy(cells.data() + row, (*s)->cells.data() + ly * kSide, kSide);
+      }
+    }
+  }
+  const float res = resolution_;
+  const float x_min = static_cast<float>(tx_min * kSide) * res;
+  const float y_min = static_cast<float>(ty_min * kSide) * res;
+  OccupancyGrid grid;
+  grid.assign(x_min, x_min + static_cast<float>(sx) * res, y_min, y_min + static_cast<float>(sy) * res,
+              res, sx, sy, std::move(cells));
+  grid.set_empty(empty_);
+  return grid;
+}
+
+void TiledGrid::assign(const OccupancyGrid& grid) {
+  ROVE_CHECK_MSG(grid.resolution() == resolution_,
+                 "the grid's resolution {} differs from the tiled grid's {}", grid.resolution(),
+                 resolution_);
+  const double ox = static_cast<double>(grid.x_min()) / resolution_;
+  const double oy = static_cast<double>(grid.y_min()) / resolution_;
+  ROVE_CHECK_MSG(std::abs(ox - std::round(ox)) < 1e-3 && std::abs(oy - std::round(oy)) < 1e-3 &&
+                     std::abs(ox) < kCellLimit / 2 && std::abs(oy) < kCellLimit / 2,
+                 "the grid's limits ({}, {}) are not on the cell lattice of resolution {}",
+                 grid.x_min(), grid.y_min(), resolution_);
+  const int cx0 = static_cast<int>(std::lround(ox)), cy0 = static_cast<int>(std::lround(oy));
+  for (std::uint32_t y = 0; y < grid.size_y(); ++y) {
+    for (std::uint32_t x = 0; x < grid.size_x(); ++x) {
+      const int cx = cx0 + static_cast<int>(x), cy = cy0 + static_cast<int>(y);
+      const std::int8_t v = grid.cell(static_cast<int>(x), static_cast<int>(y));
+      if (v != 0 || tile_at(cx, cy) != nullptr) set_cell(cx, cy, v);
+    }
+  }
+}
+
+bool operator==(const TiledGrid& a, const TiledGrid& b) {
+  if (a.resolution_ != b.resolution_) return false;
+  const auto cells_of = [](const TiledGrid& g, int tx, int ty) -> const std::int8_t* {
+    const auto* s = g.slot(tx, ty);
+    return (s != nullptr && *s) ? (*s)->cells.data() : unknown_cells().data();
+  };
+  const int x0 = std::min(a.tx0_, b.tx0_), x1 = std::max(a.tx0_ + a.ntx_, b.tx0_ + b.ntx_);
+  const int y0 = std::min(a.ty0_, b.ty0_), y1 = std::max(a.ty0_ + a.nty_, b.ty0_ + b.nty_);
+  for (int ty = y0; ty < y1; ++ty) {
+    for (int tx = x0; tx < x1; ++tx) {
+      if (std::memcmp(cells_of(a, tx, ty), cells_of(b, tx, ty), GridTile::kCells) != 0) return false;
+    }
+  }
+  return true;
+}
+
+namespace {
+
+// The box (meters) the scan's rays can reach, as insert_scan casts them.
+struct ReachBox {
+  double x0, x1, y0, y1;
+  double longest = 0.0;
+};
+
+ReachBox scan_reach(const RangeScan2D& scan, const Pose3& T_map_sensor,
+                    const GridInsertionOptions& opt) {
+  ReachBox b{T_map_sensor.x(), T_map_sensor.x(), T_map_sensor.y(), T_map_sensor.y()};
+  const double yaw = T_map_sensor.yaw();
+  const double sign = T_map_sensor.rotation()(2, 2) < 0 ? -1.0 : 1.0;
+  const double max_dist = opt.max_distance_insertion;
+  double last_valid = max_dist;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const float r = scan.ranges[i];
+    double len = -1.0;
+    if (scan.valid[i] && std::isfinite(r) && r >= 0.0f) {
+      last_valid = r;
+      len = std::min<double>(max_dist, r);
+    } else if (opt.consider_invalid_ranges_as_free_space) {
+      len = std::min(max_dist, 0.5 * last_valid);
+    }
+    if (len < 0.0) continue;
+    const double a = scan.size() >= 2 ? yaw + sign * scan.ray_angle(i) : yaw;
+    const double ex = T_map_sensor.x() + std::cos(a) * len, ey = T_map_sensor.y() + std::sin(a) * len;
+    b.x0 = std::min(b.x0, ex);
+    b.x1 = std::max(b.x1, ex);
+    b.y0 = std::min(b.y0, ey);
+    b.y1 = std::max(b.y1, ey);
+    b.longest = std::max(b.longest, len);
+  }
+  return b;
+}
+
+}  // namespace
+
+TiledInsertResult insert_scan(TiledGrid& grid, const RangeScan2D& scan, const SE2d& T_map_robot,
+                              const GridInsertionOptions& opt) {
+  scan.check();
+  opt.check();
+  TiledInsertResult result;
+  const Eigen::Vector2d& t = T_map_robot.translation();
+  const Pose3 pose(Pose2(t.x(), t.y(), T_map_robot.angle()));
+  const Pose3 T_map_sensor = pose + scan.T_robot_sensor;
+  const float res = grid.resolution();
+  if (!is_horizontal(scan.T_robot_sensor, opt.horizontal_tolerance) ||
+      (opt.use_map_altitude && std::fabs(opt.map_altitude - T_map_sensor.z()) > 0.001)) {
+    // Declined: the flat insertion says why, on a grid it leaves unchanged.
+    OccupancyGrid tiny(0.0f, res, 0.0f, res, res);
+    result.insertion = insert_scan(tiny, scan, pose, opt);
+    return result;
+  }
+  // The window: every cell the rays reach, with the 15-cell margin within
+  // which the flat insertion would grow its grid, on tile boundaries.
+  const ReachBox box = scan_reach(scan, T_map_sensor, opt);
+  const double beam = scan.size() >= 2 ? scan.aperture / static_cast<double>(scan.size() - 1) : scan.aperture;
+  const int margin = 18 + static_cast<int>(std::ceil(box.longest * beam / res));
+  const int cx0 = grid.x_to_idx(box.x0) - margin, cx1 = grid.x_to_idx(box.x1) + margin;
+  const int cy0 = grid.y_to_idx(box.y0) - margin, cy1 = grid.y_to_idx(box.y1) + margin;
+  ROVE_CHECK_MSG(cx0 > -kCellLimit / 2 && cx1 < kCellLimit / 2 && cy0 > -kCellLimit / 2 &&
+                     cy1 < kCellLimit / 2,
+                 "the scan reaches beyond the tiled grid's cells (box [{}, {}] x [{}, {}] m)",
+                 box.x0, box.x1, box.y0, box.y1);
+  const int tx0 = TiledGrid::tile_of(cx0), tx1 = TiledGrid::tile_of(cx1);
+  const int ty0 = TiledGrid::tile_of(cy0), ty1 = TiledGrid::tile_of(cy1);
+  const auto sx = static_cast<std::uint32_t>((tx1 - tx0 + 1) * kSide);
+  const auto sy = static_cast<std::uint32_t>((ty1 - ty0 + 1) * kSide);
+  std::vector<std::int8_t> cells(static_cast<std::size_t>(sx) * sy, 0);
+  const auto block = [&](int tx, int ty, int ly) {
+    return cells.data() + static_cast<std::size_t>((ty - ty0) * kSide + ly) * sx +
+           static_cast<std::size_t>((tx - tx0) * kSide);
+  };
+  for (int ty = ty0; ty <= ty1; ++ty) {
+    for (int tx = tx0; tx <= tx1; ++tx) {
+      const auto* s = std::as_const(grid).slot(tx, ty);
+      if (s == nullptr || !*s) continue;
+      for (int ly = 0; ly < kSide; ++ly) std::memcpy(block(tx, ty, ly), (*s)->cells.data() + ly * kSide, kSide);
+    }
+  }
+  const float x_min = static_cast<float>(tx0 * kSide) * res;
+  const float y_min = static_cast<float>(ty0 * kSide) * res;
+  OccupancyGrid window;
+  window.assign(x_min, x_min + static_cast<float>(sx) * res, y_min, y_min + static_cast<float>(sy) * res,
+                res, sx, sy, std::move(cells));
+  result.insertion = insert_scan(window, scan, pose, opt);
+  ROVE_CHECK_MSG(window.size_x() == sx && window.size_y() == sy && window.x_min() == x_min &&
+                     window.y_min() == y_min,
+                 "the insertion window grew ({} x {} cells to {} x {})", sx, sy, window.size_x(),
+                 window.size_y());
+  // Write back the tiles whose cells changed.
+  const std::int8_t* data = window.cells().data();
+  for (int ty = ty0; ty <= ty1; ++ty) {
+    for (int tx = tx0; tx <= tx1; ++tx) {
+      const auto* s = std::as_const(grid).slot(tx, ty);
+      const std::int8_t* old = (s != nullptr && *s) ? (*s)->cells.data() : unknown_cells().data();
+      const auto row_of = [&](int ly) {
+        return data + static_cast<std::size_t>((ty - ty0) * kSide + ly) * sx +
+               static_cast<std::size_t>((tx - tx0) * kSide);
+      };
+      bool same = true;
+      for (int ly = 0; ly < kSide && same; ++ly) same = std::memcmp(row_of(ly), old + ly * kSide, kSide) == 0;
+      if (same) continue;
+      bool copied = false;
+      GridTile& tile = grid.writable(tx, ty, &copied);
+      for (int ly = 0; ly < kSide; ++ly) std::memcpy(tile.cells.data() + ly * kSide, row_of(ly), kSide);
+      tile.update_occupied();
+      ++result.tiles_changed;
+      result.tiles_copied += copied ? 1 : 0;
+    }
+  }
+  grid.empty_ = false;
+  return result;
+}
+
+TiledLikelihoodField::TiledLikelihoodField(float resolution, GridLikelihoodOptions options,
+                                           GridInsertionOptions insertion)
+    : resolution_(resolution), options_(std::move(options)), insertion_(std::move(insertion)) {
+  options_.check();
+  insertion_.check();
+  ROVE_CHECK_MSG(std::isfinite(resolution) && resolution > 0.0f, "resolution must be > 0, got {}",
+                 resolution);
+  ROVE_CHECK_MSG(options_.method == GridLikelihoodMethod::kLikelihoodFieldThrun,
+                 "the tiled likelihood field implements likelihoodMethod = 4 "
+                 "(lmLikelihoodField_Thrun) only, got {}",
+                 static_cast<int>(options_.method));
+  // GridLikelihoodModel's per-cell values (MRPT's float/double mix), per
+  // squared distance in cells: d² in units of (cell/10)², capped at the
+  // search radius, then zRandom/maxRange + zHit·exp(Q·d²) in float.
+  const GridLikelihoodOptions& o = options_;
+  const float z_random_term = o.lf_z_random / o.lf_max_range;
+  const float q = -0.5f / (o.lf_std_hit * o.lf_std_hit);
+  const double max_corr_sq = static_cast<double>(o.lf_max_corrs_distance) * o.lf_max_corrs_distance;
+  const double res = resolution;
+  const double units = 100.0 / (res * res);
+  const auto cap = static_cast<std::uint64_t>(std::lrint(max_corr_sq * units));
+  const std::uint64_t cap_cells = (cap + 99) / 100;  // first d² with d²·100 >= cap
+  std::uint64_t radius = 0;
+  while ((radius + 1) * (radius + 1) < cap_cells) ++radius;
+  ROVE_CHECK_MSG(radius < static_cast<std::uint64_t>(kSide),
+                 "LF_maxCorrsDistance = {} m spans {} cells of {} m; the tiled likelihood field "
+                 "searches at most 31",
+                 o.lf_max_corrs_distance, radius, resolution);
+  radius_ = static_cast<int>(radius);
+  cap_cells_ = static_cast<std::uint32_t>(cap_cells);
+  const bool product = !o.lf_alternate_average_method;
+  const auto value_of = [&](std::uint64_t units_int) {
+    float dist = static_cast<float>(static_cast<double>(units_int) / units);
+    if (o.lf_use_square_dist) dist *= dist;
+    const float lik = z_random_term + o.lf_z_hit * std::exp(q * dist);
+    return product ? std::log(static_cast<double>(lik)) : static_cast<double>(lik);
+  };
+  value_.resize(cap_cells_);
+  for (std::uint32_t d2 = 0; d2 < cap_cells_; ++d2) value_[d2] = value_of(std::uint64_t{d2} * 100);
+  capped_ = value_of(cap);
+}
+
+TiledScanPoints TiledLikelihoodField::prepare(const RangeScan2D& scan) const {
+  scan.check();
+  TiledScanPoints p;
+  if (!is_horizontal(scan.T_robot_sensor, insertion_.horizontal_tolerance) ||
+      (insertion_.use_map_altitude &&
+       std::fabs(insertion_.map_altitude - scan.T_robot_sensor.z()) > 0.01)) {
+    p.usable = false;
+    return p;
+  }
+  std::vector<float> xs, ys;
+  mrpt_scan_points(scan, resolution_ * 0.5f, xs, ys);
+  const std::size_t step = xs.size() < 10 ? 1 : options_.lf_decimation;
+  for (std::size_t j = 0; j < xs.size(); j += step) {
+    p.xs.push_back(xs[j]);
+    p.ys.push_back(ys[j]);
+  }
+  return p;
+}
+
+double TiledLikelihoodField::log_likelihood(const TiledGrid& grid, const TiledScanPoints& scan,
+                                            const SE2d& T_map_robot) const {
+  ROVE_CHECK_MSG(grid.resolution() == resolution_,
+                 "the grid's resolution {} is not the likelihood field's {}", grid.resolution(),
+                 resolution_);
+  if (!scan.usable) return -10.0;
+  const std::size_t n = scan.xs.size();
+  if (n == 0) return -100.0;
+  const Eigen::Vector2d cs = T_map_robot.rotation().unit_complex();
+  const Eigen::Vector2d& t = T_map_robot.translation();
+  double sum = 0.0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double wx = t.x() + scan.xs[j] * cs.x() - scan.ys[j] * cs.y();
+    const double wy = t.y() + scan.xs[j] * cs.y() + scan.ys[j] * cs.x();
+    const std::uint32_t d2 =
+        grid.squared_distance_to_occupied(grid.x_to_idx(wx), grid.y_to_idx(wy), radius_);
+    sum += d2 < cap_cells_ ? value_[d2] : capped_;
+  }
+  return options_.lf_alternate_average_method ? std::log(sum / static_cast<double>(n)) : sum;
+}
+
+double TiledLikelihoodField::fit(const TiledGrid& grid, const TiledScanPoints& scan,
+                                 const SE2d& T_map_robot) const {
+  const std::size_t n = scan.xs.size();
+  if (!scan.usable || n == 0) return 1.0;
+  const Eigen::Vector2d cs = T_map_robot.rotation().unit_complex();
+  const Eigen::Vector2d& t = T_map_robot.translation();
+  std::size_t near = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double wx = t.x() + scan.xs[j] * cs.x() - scan.ys[j] * cs.y();
+    const double wy = t.y() + scan.xs[j] * cs.y() + scan.ys[j] * cs.x();
+    near += grid.squared_distance_to_occupied(grid.x_to_idx(wx), grid.y_to_idx(wy), radius_) <
+                    cap_cells_
+                ? 1
+                : 0;
+  }
+  return static_cast<double>(near) / static_cast<double>(n);
+}
+
+}  // namespace rove
