@@ -23,6 +23,9 @@ void add_lidar_slam_command(CLI::App& app);
 void add_pf_localization_command(CLI::App& app);
 /// `rove kf-slam`: EKF landmark SLAM from an MRPT kf-slam config.
 void add_kf_slam_command(CLI::App& app);
+/// `rove rbpf-slam CONFIG [RAWLOG] [-o DIR] [--seed N] [--json]`: Rao-Blackwellized
+/// particle-filter grid mapping from an MRPT rbpf-slam config.
+void add_rbpf_slam_command(CLI::App& app);
 /// `rove map build CONFIG INPUT -o DIR [--section S] [--json]`: build the
 /// maps an MRPT config declares from a rawlog or simplemap; `rove map
 /// convert IN OUT`: occupancy grids between ROS map.yaml, .gridmap, .rovegrid.

@@ -110,6 +110,7 @@ int main(int argc, char** argv) {
   rove::cli::add_lidar_slam_command(app);
   rove::cli::add_pf_localization_command(app);
   rove::cli::add_kf_slam_command(app);
+  rove::cli::add_rbpf_slam_command(app);
   rove::cli::add_graph_slam_command(app);
   rove::cli::add_map_command(app);
   rove::cli::add_align_command(app);

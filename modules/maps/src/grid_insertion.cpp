@@ -148,12 +148,9 @@ InsertStrengths insert_strengths(const GridInsertionOptions& opt, bool mrpt_wrap
   return st;
 }
 
-namespace {
+template InsertStrengths insert_strengths<std::int8_t>(const GridInsertionOptions&, bool);
+template InsertStrengths insert_strengths<std::int16_t>(const GridInsertionOptions&, bool);
 
-/// The rays' directions in double: the scan's own ray angles
-/// (RangeScan2D::ray_angle, spacing aperture / (N − 1)) about the sensor's
-/// heading, mirrored for a sensor mounted upside down; a beam is as wide as
-/// the spacing. A single ray points along the sensor's heading.
 RayDirections<double> ray_directions(const RangeScan2D& scan, const Pose3& T_map_sensor, int step) {
   RayDirections<double> d;
   d.px = T_map_sensor.x();
@@ -168,7 +165,6 @@ RayDirections<double> ray_directions(const RangeScan2D& scan, const Pose3& T_map
   return d;
 }
 
-}  // namespace
 
 template <GridCell Cell>
 ScanInformation scan_information(const OccupancyGridT<Cell>& grid, const RangeScan2D& scan,

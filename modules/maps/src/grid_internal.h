@@ -31,6 +31,11 @@ InsertStrengths insert_strengths(const GridInsertionOptions& options, bool mrpt_
 
 template <typename Real>
 struct RayDirections;
+/// rove's ray directions in double: the scan's own ray angles
+/// (RangeScan2D::ray_angle) about the sensor's heading, mirrored for a
+/// sensor mounted upside down, one ray in `step`; a beam is as wide as the
+/// spacing. A single ray points along the sensor's heading.
+RayDirections<double> ray_directions(const RangeScan2D& scan, const Pose3& T_map_sensor, int step);
 /// MRPT's ray directions (grid_insertion_mrpt.cpp): the angle accumulated in
 /// float from the first ray in steps of step·aperture / N (N rays, not
 /// N − 1 as the scan's own angles), the first angle rounded as MRPT's thin

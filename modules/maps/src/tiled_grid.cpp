@@ -5,9 +5,13 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <atomic>
 #include <unordered_set>
+#include <utility>
 
 #include "rove/core/check.h"
+#include "grid_insertion_rays.h"
+#include "grid_internal.h"
 #include "rove/poses/pose2.h"
 #include "rove/poses/pose3.h"
 
@@ -186,6 +190,36 @@ std::uint32_t TiledGrid::squared_distance_to_occupied(int cx, int cy, int max_ce
   return best;
 }
 
+std::vector<Eigen::Vector2d> TiledGrid::occupied_points(double x0, double x1, double y0,
+                                                        double y1) const {
+  ROVE_CHECK_MSG(std::isfinite(x0) && std::isfinite(x1) && std::isfinite(y0) && std::isfinite(y1) &&
+                     x0 <= x1 && y0 <= y1,
+                 "bad box [{}, {}] x [{}, {}]", x0, x1, y0, y1);
+  std::vector<Eigen::Vector2d> out;
+  const double res = resolution_;
+  // Cells whose centers ((c + 0.5)·res) lie in the box.
+  const int cx0 = to_idx(x0 - 0.5 * res) + 1, cx1 = to_idx(x1 - 0.5 * res);
+  const int cy0 = to_idx(y0 - 0.5 * res) + 1, cy1 = to_idx(y1 - 0.5 * res);
+  for (int ty = tile_of(cy0); ty <= tile_of(cy1) && cy0 <= cy1; ++ty) {
+    for (int tx = tile_of(cx0); tx <= tile_of(cx1) && cx0 <= cx1; ++tx) {
+      const auto* s = slot(tx, ty);
+      if (s == nullptr || !*s) continue;
+      for (int ly = 0; ly < kSide; ++ly) {
+        const int cy = ty * kSide + ly;
+        std::uint32_t bits = (*s)->occupied[static_cast<std::size_t>(ly)];
+        if (cy < cy0 || cy > cy1) continue;
+        while (bits != 0) {
+          const int lx = std::countr_zero(bits);
+          bits &= bits - 1;
+          const int cx = tx * kSide + lx;
+          if (cx >= cx0 && cx <= cx1) out.emplace_back((cx + 0.5) * res, (cy + 0.5) * res);
+        }
+      }
+    }
+  }
+  return out;
+}
+
 std::size_t TiledGrid::tile_count() const noexcept {
   return static_cast<std::size_t>(std::count_if(tiles_.begin(), tiles_.end(),
                                                 [](const auto& t) { return t != nullptr; }));
@@ -313,6 +347,104 @@ ReachBox scan_reach(const RangeScan2D& scan, const Pose3& T_map_sensor,
 
 }  // namespace
 
+// Cell updates of one insertion over the tiles: reads through the shared
+// tiles, copies a tile only when an update changes one of its cells, and
+// keeps the tiles it wrote for their occupied bits.
+class TiledRayWriter {
+ public:
+  explicit TiledRayWriter(TiledGrid& grid) : grid_(grid) {
+    static std::atomic<std::uint64_t> counter{0};
+    stamp_ = ++counter;
+  }
+  // Applies v → update(v) to cell (cx, cy) when it changes the value.
+  template <typename Update>
+  void apply(int cx, int cy, const Update& update) {
+    const int tx = cx >> kLog, ty = cy >> kLog;
+    if (tx != tx_ || ty != ty_) {
+      tx_ = tx;
+      ty_ = ty;
+      const auto* s = std::as_const(grid_).slot(tx, ty);
+      tile_ = (s != nullptr) ? s->get() : nullptr;
+      own_ = tile_ != nullptr && tile_->stamp == stamp_;
+    }
+    const std::size_t i = static_cast<std::size_t>((cx & kMask) + (cy & kMask) * kSide);
+    const int v = tile_ != nullptr ? tile_->cells[i] : 0;
+    const int nv = update(v);
+    if (nv == v) return;
+    if (!own_) {
+      bool copied = false;
+      GridTile& t = grid_.writable(tx, ty, &copied);
+      if (t.stamp != stamp_) {
+        t.stamp = stamp_;
+        written_.push_back(&t);
+        copied_ += copied ? 1 : 0;
+      }
+      tile_ = &t;
+      own_ = true;
+    }
+    const_cast<GridTile*>(tile_)->cells[i] = static_cast<std::int8_t>(nv);
+  }
+  // Recomputes the occupied bits of the tiles written; fills the counts.
+  void finish(TiledInsertResult& r) {
+    for (GridTile* t : written_) t->update_occupied();
+    r.tiles_changed = written_.size();
+    r.tiles_copied = copied_;
+  }
+
+ private:
+  TiledGrid& grid_;
+  std::uint64_t stamp_ = 0;
+  int tx_ = std::numeric_limits<int>::min(), ty_ = 0;
+  const GridTile* tile_ = nullptr;
+  bool own_ = false;
+  std::vector<GridTile*> written_;
+  std::size_t copied_ = 0;
+};
+
+namespace {
+
+// Thin rays over the tiles: insert_thin_rays' ray geometry and trace_free's
+// fixed-point DDA (relative to the sensor cell, which gives the same cells
+// as the flat grid's absolute accumulator), then the occupied end cell.
+template <typename Real>
+std::size_t insert_thin_tiled(TiledGrid& grid, const RangeScan2D& scan,
+                              const GridInsertionOptions& opt, const detail::InsertStrengths& st,
+                              const detail::RayDirections<Real>& dir, TiledRayWriter& writer) {
+  using detail::kFrBits;
+  using Traits = LogOddsTraits<std::int8_t>;
+  const detail::RayEnds<Real> ends = detail::ray_ends(scan, opt, dir);
+  const int cx0 = grid.x_to_idx(dir.px), cy0 = grid.y_to_idx(dir.py);
+  std::size_t rays = 0;
+  for (std::size_t k = 0; k < ends.x.size(); ++k) {
+    const bool ok = ends.ok[k] != 0;
+    if (!ok && !opt.consider_invalid_ranges_as_free_space) continue;
+    const int tx = grid.x_to_idx(ends.x[k]), ty = grid.y_to_idx(ends.y[k]);
+    const int dx = tx - cx0, dy = ty - cy0;
+    const int n_steps = std::max(dx < 0 ? -dx : dx, dy < 0 ? -dy : dy);
+    if (n_steps == 0) continue;
+    ++rays;
+    const Real inv_n = Real(1) / static_cast<Real>(n_steps);
+    const int fr_dx = detail::fixed_step(dx, inv_n), fr_dy = detail::fixed_step(dy, inv_n);
+    const int obs = ok ? st.obs_free : st.obs_noecho_free;
+    const int thres = st.thres_free;
+    const auto free = [&](int v) { return v < thres ? v + obs : Traits::kMax; };
+    int fx = 0, fy = 0;
+    for (int s = 0; s < n_steps; ++s) {
+      writer.apply(cx0 + (fx >> kFrBits), cy0 + (fy >> kFrBits), free);
+      fx += fr_dx;
+      fy += fr_dy;
+    }
+    const std::size_t i = k * static_cast<std::size_t>(dir.step);
+    if (ok && scan.ranges[i] < opt.max_distance_insertion) {
+      const int obs_occ = st.obs_occupied, thres_occ = st.thres_occupied;
+      writer.apply(tx, ty, [&](int v) { return v > thres_occ ? v - obs_occ : Traits::kMin; });
+    }
+  }
+  return rays;
+}
+
+}  // namespace
+
 TiledInsertResult insert_scan(TiledGrid& grid, const RangeScan2D& scan, const SE2d& T_map_robot,
                               const GridInsertionOptions& opt) {
   scan.check();
@@ -327,6 +459,23 @@ TiledInsertResult insert_scan(TiledGrid& grid, const RangeScan2D& scan, const SE
     // Declined: the flat insertion says why, on a grid it leaves unchanged.
     OccupancyGrid tiny(0.0f, res, 0.0f, res, res);
     result.insertion = insert_scan(tiny, scan, pose, opt);
+    return result;
+  }
+  if (!opt.widening_beams_with_distance) {
+    const ReachBox box = scan_reach(scan, T_map_sensor, opt);
+    ROVE_CHECK_MSG(std::abs(box.x0) < kCellLimit / 4 * res && std::abs(box.x1) < kCellLimit / 4 * res &&
+                       std::abs(box.y0) < kCellLimit / 4 * res && std::abs(box.y1) < kCellLimit / 4 * res,
+                   "the scan reaches beyond the tiled grid's cells (box [{}, {}] x [{}, {}] m)",
+                   box.x0, box.x1, box.y0, box.y1);
+    const bool mrpt = opt.arithmetic == Arithmetic::Mrpt;
+    const detail::InsertStrengths st = detail::insert_strengths<std::int8_t>(opt, mrpt);
+    TiledRayWriter writer(grid);
+    result.insertion.rays_inserted =
+        mrpt ? insert_thin_tiled(grid, scan, opt, st, detail::mrpt_ray_directions(scan, T_map_sensor, opt.decimation, false), writer)
+             : insert_thin_tiled(grid, scan, opt, st, detail::ray_directions(scan, T_map_sensor, opt.decimation), writer);
+    result.insertion.message = "inserted";
+    writer.finish(result);
+    grid.empty_ = false;
     return result;
   }
   // The window: every cell the rays reach, with the 15-cell margin within

@@ -16,6 +16,7 @@
 #include "rove/obs/odometry_observation.h"
 #include "rove/obs/selection_error.h"
 #include "rove/poses/angle.h"
+#include "rawlog_steps.h"
 
 namespace rove {
 namespace {
@@ -95,20 +96,6 @@ class GroundTruth {
   bool by_time_ = false;
 };
 
-Timestamp first_time(const SensoryFrame& frame) {
-  for (const auto& o : frame.observations) {
-    if (o->timestamp.valid()) return o->timestamp;
-  }
-  return {};
-}
-
-const RobotMovement2D* first_movement(const ActionCollection& actions) {
-  for (const auto& a : actions.actions) {
-    if (const auto* m = dynamic_cast<const RobotMovement2D*>(a.get())) return m;
-  }
-  return nullptr;
-}
-
 // Runs the steps of one log and keeps what the result needs.
 class Runner {
  public:
@@ -116,38 +103,15 @@ class Runner {
          const PfLocalizationConfig& config, const PfLocalizationRunOptions& options,
          const std::optional<GroundTruth>& truth, const std::string& rawlog)
       : res_(result), mcl_(mcl), config_(config), options_(options), truth_(truth),
-        rawlog_(rawlog), odometry_(config.initial_odometry) {}
+        rawlog_(rawlog), steps_(mcl.options().dummy_odometry), odometry_(config.initial_odometry) {}
 
-  // Feeds one log entry; false once max_steps steps are done.
+  // Feeds one log entry; false once max_steps steps are done. Increments of
+  // an observation-only log get [DummyOdometryParams]' Gaussian model (as
+  // MRPT).
   bool feed(const RawlogEntry& entry, std::uint64_t at) {
-    if (const auto* ac = std::get_if<std::shared_ptr<const ActionCollection>>(&entry)) {
-      pending_ = *ac;
-      return true;
-    }
-    if (const auto* sf = std::get_if<std::shared_ptr<const SensoryFrame>>(&entry)) {
-      if (!pending_) return true;  // before the first action: passed over, as MRPT
-      const auto actions = std::move(pending_);
-      pending_.reset();
-      return step(first_movement(*actions), **sf, first_time(**sf), at);
-    }
-    const auto& obs = std::get<std::shared_ptr<const Observation>>(entry);
-    if (const auto* odo = dynamic_cast<const OdometryObservation*>(obs.get())) {
-      if (!last_odometry_reading_) last_odometry_reading_ = odo->odometry;
-      latest_odometry_reading_ = odo->odometry;
-      return true;
-    }
-    // Observation-only layout: the odometry increment since the previous
-    // step, with [DummyOdometryParams]' Gaussian model (as MRPT).
-    MotionModelOptions model;
-    model.gaussian = mcl_.options().dummy_odometry;
-    const Pose2 increment = latest_odometry_reading_ && last_odometry_reading_
-                                ? *latest_odometry_reading_ - *last_odometry_reading_
-                                : Pose2();
-    last_odometry_reading_ = latest_odometry_reading_;
-    const RobotMovement2D motion(increment, model);
-    SensoryFrame frame;
-    frame.add(obs);
-    return step(&motion, frame, obs->timestamp, at);
+    const std::optional<detail::RawlogStep> s = steps_.feed(entry);
+    if (!s) return true;
+    return step(s->motion ? &*s->motion : nullptr, s->frame, s->time, at);
   }
 
   std::uint64_t step_count() const noexcept { return step_index_; }
@@ -218,8 +182,7 @@ class Runner {
   const PfLocalizationRunOptions& options_;
   const std::optional<GroundTruth>& truth_;
   const std::string& rawlog_;
-  std::shared_ptr<const ActionCollection> pending_;
-  std::optional<Pose2> last_odometry_reading_, latest_odometry_reading_;
+  detail::RawlogStepAssembler steps_;
   Pose2 odometry_;
   std::uint64_t step_index_ = 0;
   std::uint64_t streak_ = 0;

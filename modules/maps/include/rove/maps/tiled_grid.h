@@ -51,6 +51,9 @@ struct GridTile {
   std::array<std::uint32_t, kSide> occupied{};
   /// Recomputes `occupied` from `cells`; true if it changed.
   bool update_occupied();
+  /// Internal: the insertion that last wrote the tile (bookkeeping of
+  /// insert_scan; not part of the tile's value).
+  std::uint64_t stamp = 0;
 };
 
 /// What insert_scan on a TiledGrid did.
@@ -98,6 +101,11 @@ class TiledGrid {
   /// 0 ≤ max_cells < 32.
   std::uint32_t squared_distance_to_occupied(int cx, int cy, int max_cells) const;
 
+  /// The centers (meters) of the occupied cells whose centers lie in
+  /// [x0, x1] × [y0, y1], row by row of tiles. Precondition
+  /// (InvalidArgument): finite bounds, x0 ≤ x1, y0 ≤ y1.
+  std::vector<Eigen::Vector2d> occupied_points(double x0, double x1, double y0, double y1) const;
+
   /// The cells as an OccupancyGrid covering every tile written (limits on
   /// tile boundaries, so cell (cx, cy) of this grid is the same world cell
   /// there); an empty grid gives a 1-tile grid around the origin.
@@ -128,6 +136,7 @@ class TiledGrid {
   friend TiledInsertResult insert_scan(TiledGrid& grid, const RangeScan2D& scan,
                                        const SE2d& T_map_robot,
                                        const GridInsertionOptions& options);
+  friend class TiledRayWriter;
   int to_idx(double v) const noexcept;
   // Makes tiles [tx0, tx1] × [ty0, ty1] addressable (growing the table).
   void reserve_tiles(int tx0, int tx1, int ty0, int ty1);
@@ -146,11 +155,15 @@ class TiledGrid {
 };
 
 /// Inserts `scan`, taken with the robot at T_map_robot, into `grid` with
-/// MRPT's ray casting and options: the cells the scan can reach are put in
-/// an OccupancyGrid window, insert_scan (grid_insertion.h) runs there
-/// unchanged, and the tiles whose cells changed are written back (copied
-/// first when shared). So the cells are exactly those insert_scan gives on
-/// a flat grid. Throws InvalidArgument if scan.check() or options.check()
+/// MRPT's ray casting and options, giving the cells insert_scan
+/// (grid_insertion.h) gives on a flat grid on the same cell lattice. Thin
+/// rays are traced over the tiles directly (the same ray ends, fixed-point
+/// DDA and updates, each ray's free cells then its occupied end); a tile is
+/// copied only when an update changes one of its cells while another grid
+/// shares it, so rays through saturated free space keep tiles shared.
+/// Widening beams run insert_scan unchanged on an OccupancyGrid window of
+/// the cells the scan reaches, and the tiles whose cells changed are
+/// written back. Throws InvalidArgument if scan.check() or options.check()
 /// fails or the scan reaches beyond ±2³⁰ cells.
 TiledInsertResult insert_scan(TiledGrid& grid, const RangeScan2D& scan, const SE2d& T_map_robot,
                               const GridInsertionOptions& options = {});

@@ -1,0 +1,312 @@
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "report.h"
+#include "rove/core/error.h"
+#include "rove/core/files.h"
+#include "rove/core/ini.h"
+#include "rove/core/interrupt.h"
+#include "rove/core/json.h"
+#include "rove/core/parallel.h"
+#include "rove/core/progress.h"
+#include "rove/core/timer.h"
+#include "rove/io/grid_image.h"
+#include "rove/io/tum_trajectory.h"
+#include "rove/maps/grid_agreement.h"
+#include "rove/slam/localization_image.h"
+#include "rove/slam/rbpf_slam_run.h"
+
+namespace rove::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RbpfSlamCliOptions {
+  std::string config;
+  std::string rawlog;
+  std::string out_dir = "rbpf-slam-out";
+  bool json = false;
+  bool progress = true;
+  std::uint64_t seed = 0;
+  int threads = 1;
+  std::optional<std::uint64_t> max_steps;
+  std::optional<std::uint32_t> particles;
+  std::string reference;
+};
+
+// The map's agreement with a reference map of the same data (--reference).
+struct Reference {
+  std::string file;
+  GridAgreement agreement;
+};
+
+std::string resolve_rawlog(const RbpfSlamCliOptions& o, const RbpfSlamConfig& cfg) {
+  if (!o.rawlog.empty()) return o.rawlog;
+  if (cfg.rawlog_file.empty()) {
+    throw ConfigError(o.config, "MappingApplication", "rawlog_file",
+                      "no rawlog given on the command line and none in the config file");
+  }
+  return cfg.resolve(cfg.rawlog_file, "rawlog_file");
+}
+
+// One line per filter update: the effective sample size before resampling
+// and what the update did.
+void write_ess(const fs::path& path, const RbpfSlamResult& res) {
+  std::string text =
+      "step,time,ess,effective_particles,resampled,inserted,fallbacks,distinct_tiles,fit,seconds\n";
+  const double n = static_cast<double>(res.options.particles);
+  for (const auto& s : res.steps) {
+    if (!s.updated) continue;
+    fmt::format_to(std::back_inserter(text), "{},{:.6f},{:.6f},{:.3f},{},{},{},{},{:.4f},{:.6f}\n",
+                   s.index, s.time.valid() ? s.time.to_seconds() : -1.0, s.update.ess,
+                   s.update.ess * n, s.update.resampled ? 1 : 0, s.inserted ? 1 : 0,
+                   s.update.fallbacks, s.update.distinct_tiles, s.update.fit, s.seconds);
+  }
+  write_text_file_atomically(path, text);
+}
+
+struct Written {
+  std::vector<std::string> files;
+  std::string picture;
+};
+
+Written write_outputs(const fs::path& dir, const RbpfSlamResult& res) {
+  Written w;
+  const auto add = [&](const fs::path& p) { w.files.push_back(p.string()); };
+  std::vector<TimedPose2> est, odo;
+  for (std::size_t k = 0; k < res.steps.size(); ++k) {
+    const RbpfSlamStep& s = res.steps[k];
+    // A step without a time gets its index as seconds (TUM needs a time).
+    const Timestamp t = s.time.valid() ? s.time : Timestamp::from_seconds(static_cast<double>(s.index));
+    est.push_back({t, res.path[k]});
+    odo.push_back({t, s.odometry});
+  }
+  write_tum_trajectory((dir / "path.tum").string(), est);
+  add(dir / "path.tum");
+  write_tum_trajectory((dir / "odometry.tum").string(), odo);
+  add(dir / "odometry.tum");
+  write_ess(dir / "ess.csv", res);
+  add(dir / "ess.csv");
+  GridImageOptions scale;  // the whole probability, as MRPT's bitmap
+  scale.mode = RosMapMode::kScale;
+  const RosMapFiles gf = save_ros_map((dir / "map").string(), res.map, scale);
+  w.files.push_back(gf.image);
+  w.files.push_back(gf.yaml);
+  const fs::path picture = dir / "picture.png";
+  render_localization_png(picture.string(), res.map, res.particles, res.path);
+  add(picture);
+  w.picture = picture.string();
+  return w;
+}
+
+std::string summary_json(const RbpfSlamCliOptions& o, const std::string& config,
+                         const std::string& rawlog, const RbpfSlamConfig& cfg,
+                         const RbpfSlamResult& res, const std::optional<Reference>& ref,
+                         const std::vector<Issue>& issues, const Written& w, double total) {
+  std::size_t resampled = 0;
+  double ess_sum = 0.0, ess_min = 1.0, max_step = 0.0;
+  for (const auto& s : res.steps) {
+    max_step = std::max(max_step, s.seconds);
+    if (!s.updated) continue;
+    resampled += s.update.resampled ? 1 : 0;
+    ess_sum += s.update.ess;
+    ess_min = std::min(ess_min, s.update.ess);
+  }
+  const Pose2& last = res.path.back();
+  JsonWriter j;
+  j.begin_object();
+  j.key("config").value(config);
+  j.key("rawlog").value(rawlog);
+  j.key("format").value(to_string(res.format));
+  j.key("seed").value(o.seed);
+  j.key("threads").value(res.options.num_threads);
+  j.key("proposal").value(std::string(mrpt_name(res.options.proposal)));
+  j.key("particles").value(res.options.particles);
+  j.key("resolution").value(static_cast<double>(res.options.resolution));
+  j.key("steps").value(res.steps.size());
+  j.key("scans").value(res.scans);
+  j.key("updates").value(res.updates);
+  j.key("insertions").value(res.insertions);
+  j.key("resamplings").value(resampled);
+  j.key("ess_mean").value(res.updates ? ess_sum / static_cast<double>(res.updates) : 1.0);
+  j.key("ess_min").value(ess_min);
+  j.key("best_particle").value(res.best);
+  j.key("best_weight").value(std::exp(res.best_log_weight));
+  j.key("termination").value(to_string(res.termination));
+  j.key("message").value(res.message);
+  j.key("final_pose").begin_object();
+  j.key("x").value(last.x()).key("y").value(last.y()).key("phi").value(last.phi()).end_object();
+  j.key("map_cells").begin_object();
+  j.key("x").value(res.map.size_x()).key("y").value(res.map.size_y()).end_object();
+  j.key("peak_distinct_tiles").value(res.peak_tiles);
+  j.key("peak_tile_bytes").value(res.peak_tile_bytes);
+  j.key("unshared_tiles").value(res.unshared_tiles);
+  j.key("mapping_seconds").value(res.mapping_seconds);
+  j.key("seconds_per_scan").value(res.scans ? res.mapping_seconds / static_cast<double>(res.scans) : 0.0);
+  j.key("seconds_per_step_max").value(max_step);
+  j.key("read_seconds").value(res.read_seconds);
+  j.key("total_seconds").value(total);
+  j.key("reference");
+  if (ref) {
+    j.begin_object().key("file").value(ref->file);
+    j.key("compared_cells").value(ref->agreement.compared);
+    j.key("agreement").value(ref->agreement.agreement());
+    j.key("occupied_cells").value(ref->agreement.occupied);
+    j.key("wall_agreement").value(ref->agreement.wall_agreement()).end_object();
+  } else {
+    j.null();
+  }
+  j.key("ignored_keys").begin_array();
+  for (const auto& k : cfg.ignored_keys) {
+    j.begin_object().key("section").value(k.section).key("key").value(k.key);
+    j.key("reason").value(k.reason).end_object();
+  }
+  j.end_array();
+  j.key("files").value(w.files);
+  write_issues(j, issues);
+  j.end_object();
+  return j.str() + "\n";
+}
+
+void print_text(const std::string& config, const std::string& rawlog, const RbpfSlamConfig& cfg,
+                const RbpfSlamResult& res, const std::optional<Reference>& ref,
+                const std::vector<Issue>& issues, const Written& w, const std::string& out_dir,
+                double total) {
+  fmt::print("rbpf-slam: {} steps ({} scans) from {} ({})\n", res.steps.size(), res.scans,
+             printable(rawlog), to_string(res.format));
+  fmt::print("  config: {}\n", printable(config));
+  fmt::print("  filter: {} particles, {} proposal, {} updates, {} insertions\n",
+             res.options.particles, mrpt_name(res.options.proposal), res.updates, res.insertions);
+  fmt::print("  result: {}\n", res.message);
+  fmt::print("  final pose: {}\n", res.path.back().as_string());
+  fmt::print("  map: {} x {} cells of {:g} m; tiles: {} distinct at peak ({:.1f} MB), {} unshared\n",
+             res.map.size_x(), res.map.size_y(), res.map.resolution(), res.peak_tiles,
+             static_cast<double>(res.peak_tile_bytes) / 1e6, res.unshared_tiles);
+  fmt::print("  time: mapping {:.3f} s ({:.2f} ms/scan), reading {:.3f} s, total {:.3f} s\n",
+             res.mapping_seconds,
+             res.scans ? 1e3 * res.mapping_seconds / static_cast<double>(res.scans) : 0.0,
+             res.read_seconds, total);
+  if (ref) {
+    fmt::print("  reference {}: {:.2f} % of {} cells known in both agree; {:.2f} % of {} occupied "
+               "cells have a reference wall within 1 cell\n",
+               printable(ref->file), 100.0 * ref->agreement.agreement(), ref->agreement.compared,
+               100.0 * ref->agreement.wall_agreement(), ref->agreement.occupied);
+  }
+  if (!cfg.ignored_keys.empty()) {
+    fmt::print("  config keys without effect: {}\n", cfg.ignored_keys.size());
+  }
+  fmt::print("  wrote {} files to {}/ (picture: {})\n", w.files.size(), printable(out_dir),
+             printable(w.picture));
+  if (issues.empty()) {
+    fmt::print("  issues: none\n");
+  } else {
+    fmt::print("  issues:\n");
+    for (const auto& i : issues) fmt::print("    {}: {}\n", i.code, i.message);
+  }
+}
+
+void run(const RbpfSlamCliOptions& o) {
+  Stopwatch total;
+  check_regular_input(o.config, "rbpf-slam config file");
+  const IniFile ini = IniFile::load(o.config);
+  const RbpfSlamConfig cfg = load_rbpf_slam_config(ini);
+  const std::string rawlog = resolve_rawlog(o, cfg);
+  check_regular_input(rawlog, "rawlog");
+  RbpfSlamRunOptions ro;
+  ro.seed = o.seed;
+  ro.num_threads = resolve_thread_count(o.threads, "--threads");
+  ro.max_steps = o.max_steps;
+  ro.particles = o.particles;
+
+  const fs::path dir(o.out_dir);
+  if (fs::exists(dir) && !fs::is_directory(dir)) {
+    throw IoError(o.out_dir, "the output folder (-o) exists and is not a folder");
+  }
+  std::vector<fs::path> inputs{fs::path(o.config), fs::path(rawlog)};
+  if (!o.reference.empty()) {
+    check_regular_input(o.reference, "reference map");
+    inputs.emplace_back(o.reference);
+  }
+  const std::vector<fs::path> outputs{dir / "path.tum",    dir / "odometry.tum", dir / "ess.csv",
+                                      dir / "map.png",     dir / "map.yaml",     dir / "picture.png",
+                                      dir / "summary.json"};
+  check_outputs_distinct(inputs, outputs);
+
+  std::optional<Progress> progress;
+  if (o.progress) progress.emplace(std::nullopt, "rbpf-slam " + printable(rawlog), std::cerr);
+  std::uint64_t steps_done = 0;
+  ro.on_step = [&](const RbpfSlamStep&) {
+    ++steps_done;
+    if (progress) progress->advance();
+  };
+  RbpfSlamResult res;
+  try {
+    res = run_rbpf_slam(cfg, rawlog, ro);
+  } catch (const Interrupted&) {
+    if (progress) progress->finish();
+    fmt::print(stderr, "rove: interrupted after {} steps; nothing written to {}\n", steps_done,
+               printable(o.out_dir));
+    throw;
+  }
+  if (progress) progress->finish();
+
+  std::vector<Issue> issues;
+  for (const auto& i : res.issues) issues.push_back({i.code, i.message});
+  std::optional<Reference> ref;
+  if (!o.reference.empty()) ref = Reference{o.reference, grid_agreement(res.map, load_ros_map(o.reference).grid)};
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw IoError(o.out_dir, "cannot create the output folder: " + ec.message());
+  Written w = write_outputs(dir, res);
+  const fs::path summary_path = dir / "summary.json";
+  w.files.push_back(summary_path.string());
+  const std::string summary = summary_json(o, o.config, rawlog, cfg, res, ref, issues, w, total.elapsed());
+  write_text_file_atomically(summary_path, summary);
+  if (o.json) {
+    fmt::print("{}", summary);
+  } else {
+    print_text(o.config, rawlog, cfg, res, ref, issues, w, o.out_dir, total.elapsed());
+  }
+  finish(issues);
+}
+
+}  // namespace
+
+void add_rbpf_slam_command(CLI::App& app) {
+  auto o = std::make_shared<RbpfSlamCliOptions>();
+  auto* cmd = app.add_subcommand(
+      "rbpf-slam",
+      "Build an occupancy grid and the robot's path with a Rao-Blackwellized particle filter "
+      "(MRPT's rbpf-slam), from an MRPT rbpf-slam config and a rawlog");
+  cmd->add_option("config", o->config,
+                  "MRPT rbpf-slam configuration file (.ini), e.g. gridmapping_optimal_sampling.ini")
+      ->required();
+  cmd->add_option("rawlog", o->rawlog, "rawlog or CARMEN log (default: the config's rawlog_file)");
+  cmd->add_option("-o,--output", o->out_dir, "output folder")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "seed of the random numbers (same seed, same result)")
+      ->capture_default_str();
+  cmd->add_option("--threads", o->threads,
+                  fmt::format("threads, 1 to {}, 0 for all hardware threads (results do not "
+                              "depend on it)",
+                              kMaxThreads))
+      ->capture_default_str();
+  cmd->add_option("--particles", o->particles, "particle count (default: the config's sampleSize)")
+      ->check(CLI::Range(1u, 1000000u));
+  cmd->add_option("--max-steps", o->max_steps, "process at most this many steps (default: all)");
+  cmd->add_option("--reference", o->reference,
+                  "a ROS map.yaml of the same data (e.g. rove icp-slam's map.yaml): report the cell "
+                  "agreement of the map with it");
+  cmd->add_flag("--json", o->json, "print the summary as JSON");
+  cmd->add_flag("!--no-progress", o->progress, "do not report progress on stderr");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace rove::cli

@@ -1,0 +1,396 @@
+#include "rove/slam/rbpf_slam.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <utility>
+
+#include <Eigen/Cholesky>
+
+#include "rove/bayes/log_weights.h"
+#include "rove/bayes/random.h"
+#include "rove/core/check.h"
+#include "rove/poses/pose2.h"
+#include "rove/registration/icp_target_2d.h"
+
+namespace rove {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+double wrap(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
+
+/// x ⊕ (Δx, Δy, Δφ): the pose reached by an increment in x's frame.
+SE2d apply(const SE2d& x, const Vec3& v) { return x * SE2d(v.x(), v.y(), v.z()); }
+
+/// log(exp(a) + exp(b)) without overflow.
+double log_add(double a, double b) {
+  if (a < b) std::swap(a, b);
+  if (b == -std::numeric_limits<double>::infinity()) return a;
+  return a + std::log1p(std::exp(b - a));
+}
+
+/// A Gaussian over pose increments (Δx, Δy, Δφ), the angle difference wrapped.
+struct Gaussian3 {
+  Vec3 mean = Vec3::Zero();
+  Mat3 lower = Mat3::Identity();  // Cholesky factor of the covariance
+  Mat3 information = Mat3::Identity();
+  double log_norm = 0.0;  // −½ log det(2πΣ)
+
+  static Gaussian3 of(const Vec3& mean, const Mat3& covariance) {
+    Gaussian3 g;
+    g.mean = mean;
+    const Eigen::LLT<Mat3> llt(covariance);
+    ROVE_CHECK_MSG(llt.info() == Eigen::Success, "a covariance is not positive definite");
+    g.lower = llt.matrixL();
+    g.information = llt.solve(Mat3::Identity());
+    const double log_det = 2.0 * g.lower.diagonal().array().log().sum();
+    g.log_norm = -0.5 * (log_det + 3.0 * std::log(2.0 * std::numbers::pi));
+    return g;
+  }
+  double log_density(const Vec3& v) const {
+    Vec3 d = v - mean;
+    d.z() = wrap(d.z());
+    return log_norm - 0.5 * d.dot(information * d);
+  }
+  Vec3 sample(Rng& rng) const {
+    const auto a = rng.normal_pair();
+    const Vec3 z(a[0], a[1], rng.normal());
+    return mean + lower * z;
+  }
+};
+
+/// The diagonal covariance of standard deviations s.
+Mat3 diag_sq(const Vec3& s) {
+  Mat3 m = Mat3::Zero();
+  m.diagonal() = s.cwiseAbs2();
+  return m;
+}
+
+/// What every particle's proposal shares in one update.
+struct UpdateContext {
+  const RbpfSlamOptions& options;
+  const TiledLikelihoodField& field;
+  const TiledScanPoints& points;
+  const std::vector<Eigen::Vector2d>& scan_points;  // ICP's source
+  Gaussian3 prior;                                  // of the increment
+  Vec3 match_std;                                   // spread around a matched mode
+  double reach = 0.0;                               // farthest scan point, m
+};
+
+/// A particle's new pose and the log of its (untempered) weight factor.
+struct Proposal {
+  SE2d pose;
+  double log_factor = 0.0;
+  bool fallback = false;
+};
+
+/// Hill climbing on f from `start`: steps of `step` per axis, halved four
+/// times (the scan matcher of Grisetti et al. 2007, §IV).
+template <typename F>
+Vec3 climb(const F& f, Vec3 start, Vec3 step) {
+  double best = f(start);
+  for (int level = 0; level < 4; ++level, step *= 0.5) {
+    for (int it = 0; it < 16; ++it) {
+      bool improved = false;
+      for (int axis = 0; axis < 3; ++axis) {
+        for (const double sign : {1.0, -1.0}) {
+          Vec3 v = start;
+          v[axis] += sign * step[axis];
+          const double fv = f(v);
+          if (fv > best) {
+            best = fv;
+            start = v;
+            improved = true;
+          }
+        }
+      }
+      if (!improved) break;
+    }
+  }
+  return start;
+}
+
+Proposal propose_optimal(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
+  const auto target = [&](const Vec3& v) {
+    return c.field.log_likelihood(p.map, c.points, apply(p.pose, v)) + c.prior.log_density(v);
+  };
+  const Vec3 mode = climb(target, c.prior.mean, 2.0 * c.match_std);
+  const Gaussian3 around = Gaussian3::of(mode, diag_sq(c.match_std));
+  // Defensive importance sampling: half around the mode, half from the prior.
+  const std::size_t k = c.options.search_samples;
+  std::vector<Vec3> v(k);
+  std::vector<double> lw(k);
+  for (std::size_t j = 0; j < k; ++j) {
+    v[j] = j < k / 2 ? around.sample(rng) : c.prior.sample(rng);
+    const double lq = std::log(0.5) + log_add(around.log_density(v[j]), c.prior.log_density(v[j]));
+    lw[j] = target(v[j]) - lq;
+  }
+  Proposal out;
+  // η = ∫ p(z | x, m) p(x | x', u) dx ≈ mean of the importance weights
+  // (Grisetti 2007, eq. 20).
+  const double log_sum = log_sum_exp(lw);
+  out.log_factor = log_sum - std::log(static_cast<double>(k));
+  // The Gaussian of the weighted samples (eq. 18–19), angles about the mode.
+  Vec3 mu = Vec3::Zero();
+  std::vector<double> w(k);
+  for (std::size_t j = 0; j < k; ++j) {
+    w[j] = std::exp(lw[j] - log_sum);
+    Vec3 d = v[j] - mode;
+    d.z() = wrap(d.z());
+    mu += w[j] * d;
+  }
+  Mat3 cov = Mat3::Zero();
+  for (std::size_t j = 0; j < k; ++j) {
+    Vec3 d = v[j] - mode;
+    d.z() = wrap(d.z());
+    d -= mu;
+    cov += w[j] * d * d.transpose();
+  }
+  // A floor of a quarter of the matcher's spread keeps Σ invertible when
+  // one sample holds all the weight.
+  cov += diag_sq(0.25 * c.match_std);
+  const Gaussian3 proposal = Gaussian3::of(mode + mu, cov);
+  out.pose = apply(p.pose, proposal.sample(rng));
+  return out;
+}
+
+Proposal propose_standard(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
+  Proposal out;
+  out.pose = apply(p.pose, c.prior.sample(rng));
+  out.log_factor = c.field.log_likelihood(p.map, c.points, out.pose);
+  return out;
+}
+
+// The ICP alignment of the scan against the particle's occupied cells near
+// the prediction; the new pose drawn from its Gaussian when good enough.
+Proposal propose_icp(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
+  const SE2d predicted = apply(p.pose, c.prior.mean);
+  const Eigen::Vector2d& t = predicted.translation();
+  const double r = c.reach + 1.0;
+  std::vector<Eigen::Vector2d> cells = p.map.occupied_points(t.x() - r, t.x() + r, t.y() - r, t.y() + r);
+  Proposal out;
+  bool accepted = false;
+  if (cells.size() >= 3 && c.scan_points.size() >= 3) {
+    const IcpTarget2D target(std::move(cells));
+    const Icp2dResult icp =
+        icp_2d(target, c.scan_points, Pose2(t.x(), t.y(), predicted.angle()), c.options.icp);
+    const Pose2& m = icp.T_target_source.mean();
+    Mat3 cov = icp.T_target_source.covariance();
+    accepted = icp.goodness >= c.options.icp_min_quality && std::isfinite(m.x()) &&
+               std::isfinite(m.y()) && std::isfinite(m.phi()) && cov.allFinite();
+    if (accepted) {
+      cov = 0.5 * (cov + cov.transpose()) + diag_sq(0.25 * c.match_std);
+      const Gaussian3 g = Gaussian3::of(Vec3(m.x(), m.y(), m.phi()), cov);
+      const Vec3 s = g.sample(rng);
+      out.pose = SE2d(s.x(), s.y(), s.z());
+    }
+  }
+  if (!accepted) {
+    out.pose = apply(p.pose, c.prior.sample(rng));
+    out.fallback = true;
+  }
+  out.log_factor = c.field.log_likelihood(p.map, c.points, out.pose);
+  return out;
+}
+
+std::shared_ptr<const RbpfPathNode> make_node(const SE2d& pose, std::uint64_t step,
+                                              std::shared_ptr<const RbpfPathNode> previous) {
+  return std::make_shared<RbpfPathNode>(pose, step, std::move(previous));
+}
+
+/// Root-mean-square distance of the points from the robot, clamped to
+/// [1, 30] m: the lever arm that turns a rotation into a displacement.
+double lever_arm(const TiledScanPoints& pts) {
+  double s = 0.0;
+  for (std::size_t j = 0; j < pts.xs.size(); ++j) s += pts.xs[j] * pts.xs[j] + pts.ys[j] * pts.ys[j];
+  const double rms = pts.xs.empty() ? 1.0 : std::sqrt(s / static_cast<double>(pts.xs.size()));
+  return std::clamp(rms, 1.0, 30.0);
+}
+
+}  // namespace
+
+std::string_view mrpt_name(RbpfProposal proposal) {
+  switch (proposal) {
+    case RbpfProposal::Standard: return "pfStandardProposal";
+    case RbpfProposal::Optimal: return "pfAuxiliaryPFOptimal";
+    case RbpfProposal::Icp: return "pfOptimalProposal";
+  }
+  return "unknown";
+}
+
+void RbpfSlamOptions::check() const {
+  ROVE_CHECK_MSG(particles >= 1, "sampleSize must be >= 1, got {}", particles);
+  ROVE_CHECK_MSG(beta >= 0.0 && beta <= 1.0, "BETA must be in [0, 1], got {}", beta);
+  ROVE_CHECK_MSG(std::isfinite(pow_factor) && pow_factor > 0.0 && pow_factor <= 1.0,
+                 "powFactor must be in (0, 1], got {}", pow_factor);
+  ROVE_CHECK_MSG(search_samples >= 4,
+                 "pfAuxFilterOptimal_MaximumSearchSamples must be >= 4, got {}", search_samples);
+  ROVE_CHECK_MSG(std::isfinite(resolution) && resolution > 0.0f, "resolution must be > 0, got {}",
+                 resolution);
+  ROVE_CHECK_MSG(icp_min_quality >= 0.0 && icp_min_quality <= 1.0,
+                 "ICPGlobalAlign_MinQuality must be in [0, 1], got {}", icp_min_quality);
+  ROVE_CHECK_MSG(static_cast<int>(resampling) <= 3, "unknown resamplingMethod {}",
+                 static_cast<int>(resampling));
+  insertion.check();
+  likelihood.check();
+  if (proposal == RbpfProposal::Icp) icp.check();
+  (void)resolve_thread_count(num_threads);
+}
+
+struct RbpfSlam::Impl {
+  explicit Impl(const RbpfSlamOptions& o)
+      : field(o.resolution, o.likelihood, o.insertion), team(resolve_thread_count(o.num_threads)) {}
+  TiledLikelihoodField field;
+  ThreadTeam team;
+
+  // Calls body(i) for i in [0, n) on the team, each index once.
+  template <typename Body>
+  void for_each(std::size_t n, const Body& body) {
+    std::atomic<std::size_t> next{0};
+    team.run([&](int) {
+      for (std::size_t i = next.fetch_add(1); i < n; i = next.fetch_add(1)) body(i);
+    });
+  }
+};
+
+RbpfSlam::RbpfSlam(RbpfSlamOptions options) : options_(std::move(options)) {
+  options_.check();
+  impl_ = std::make_unique<Impl>(options_);
+  particles_.assign(options_.particles, RbpfParticle{SE2d(), TiledGrid(options_.resolution), nullptr});
+  log_weights_.assign(options_.particles, -std::log(static_cast<double>(options_.particles)));
+}
+
+RbpfSlam::~RbpfSlam() = default;
+
+std::size_t RbpfSlam::best() const {
+  return static_cast<std::size_t>(std::max_element(log_weights_.begin(), log_weights_.end()) -
+                                  log_weights_.begin());
+}
+
+std::size_t RbpfSlam::distinct_tiles() const {
+  std::vector<const TiledGrid*> maps;
+  maps.reserve(particles_.size());
+  for (const auto& p : particles_) maps.push_back(&p.map);
+  return TiledGrid::distinct_tiles(maps);
+}
+
+std::size_t RbpfSlam::insert(const RangeScan2D& scan, std::uint64_t step) {
+  scan.check();
+  for (auto& p : particles_) {
+    p.path = make_node(p.pose, step, p.path);
+  }
+  return insert_all(scan);
+}
+
+std::size_t RbpfSlam::insert_all(const RangeScan2D& scan) {
+  // Particles with the same path node are copies of one particle (made by
+  // resampling): the same pose and map. Each group inserts once.
+  std::vector<std::vector<std::size_t>> groups;
+  std::map<const RbpfPathNode*, std::size_t> group_of;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    const auto [it, fresh] = group_of.try_emplace(particles_[i].path.get(), groups.size());
+    if (fresh) groups.emplace_back();
+    groups[it->second].push_back(i);
+  }
+  impl_->for_each(groups.size(), [&](std::size_t g) {
+    RbpfParticle& first = particles_[groups[g].front()];
+    insert_scan(first.map, scan, first.pose, options_.insertion);
+  });
+  for (const auto& members : groups) {
+    for (std::size_t k = 1; k < members.size(); ++k) {
+      particles_[members[k]].map = particles_[members.front()].map;
+    }
+  }
+  return groups.size();
+}
+
+RbpfUpdateResult RbpfSlam::update(const OdometryIncrement& motion, const RangeScan2D& scan,
+                                  std::uint64_t step, bool insert_scan) {
+  scan.check();
+  const Eigen::Vector2d& dt = motion.mean.translation();
+  ROVE_CHECK_MSG(dt.allFinite() && std::isfinite(motion.mean.angle()) && motion.covariance.allFinite(),
+                 "the odometry increment is not finite");
+  ROVE_CHECK_MSG((motion.covariance - motion.covariance.transpose()).cwiseAbs().maxCoeff() <=
+                     1e-9 * (1.0 + motion.covariance.cwiseAbs().maxCoeff()),
+                 "the odometry covariance is not symmetric");
+  ++updates_;
+  const std::uint64_t seed = derive_seed(options_.seed, updates_);
+  const TiledScanPoints points = impl_->field.prepare(scan);
+  const std::vector<Eigen::Vector2d> scan_points =
+      options_.proposal == RbpfProposal::Icp ? scan.points_2d() : std::vector<Eigen::Vector2d>{};
+  const double res = options_.resolution;
+  const double lever = lever_arm(points);
+  const Vec3 match_std(res, res, res / lever);
+  // The motion prior, floored at a quarter of the matcher's spread so that
+  // a zero-covariance odometry still gives a density.
+  const Mat3 prior_cov = 0.5 * (motion.covariance + motion.covariance.transpose()) +
+                         diag_sq(0.25 * match_std);
+  ROVE_CHECK_MSG(Eigen::LLT<Mat3>(prior_cov).info() == Eigen::Success,
+                 "the odometry covariance is not positive semidefinite");
+  double reach = 0.0;
+  for (std::size_t j = 0; j < points.xs.size(); ++j) reach = std::max(reach, std::hypot(points.xs[j], points.ys[j]));
+  const UpdateContext ctx{options_, impl_->field, points, scan_points,
+                          Gaussian3::of(Vec3(dt.x(), dt.y(), motion.mean.angle()), prior_cov),
+                          match_std, reach};
+
+  const std::size_t n = particles_.size();
+  std::vector<Proposal> proposals(n);
+  impl_->for_each(n, [&](std::size_t i) {
+    Rng rng = Rng::stream(seed, i);
+    switch (options_.proposal) {
+      case RbpfProposal::Optimal: proposals[i] = propose_optimal(particles_[i], ctx, rng); break;
+      case RbpfProposal::Standard: proposals[i] = propose_standard(particles_[i], ctx, rng); break;
+      case RbpfProposal::Icp: proposals[i] = propose_icp(particles_[i], ctx, rng); break;
+    }
+  });
+  RbpfUpdateResult result;
+  for (std::size_t i = 0; i < n; ++i) {
+    ROVE_CHECK_MSG(!std::isnan(proposals[i].log_factor), "particle {} got a NaN weight", i);
+    RbpfParticle& p = particles_[i];
+    p.pose = proposals[i].pose;
+    p.path = make_node(p.pose, step, p.path);
+    log_weights_[i] += options_.pow_factor * proposals[i].log_factor;
+    result.fallbacks += proposals[i].fallback ? 1 : 0;
+  }
+  const LogWeightSummary summary = summarize_log_weights(log_weights_);
+  for (double& w : log_weights_) w -= summary.log_sum;
+  result.ess = summary.normalized_ess;
+  const RbpfParticle& top = particles_[summary.max_index];
+  result.fit = top.map.empty() ? 1.0 : impl_->field.fit(top.map, points, top.pose);
+  if (result.ess < options_.beta) {
+    Rng rng = Rng::stream(seed, ~std::uint64_t{0});
+    const std::vector<std::size_t> idx = resample_indices(options_.resampling, log_weights_, n, rng);
+    std::vector<RbpfParticle> next;
+    next.reserve(n);
+    for (const std::size_t i : idx) next.push_back(particles_[i]);
+    particles_ = std::move(next);
+    log_weights_.assign(n, -std::log(static_cast<double>(n)));
+    result.resampled = true;
+  }
+  if (insert_scan) result.insertions = insert_all(scan);
+  result.distinct_tiles = distinct_tiles();
+  return result;
+}
+
+RbpfPathNode::~RbpfPathNode() {
+  // Nodes are made non-const (make_node) and only viewed as const, so
+  // unlinking the chain here is allowed.
+  std::shared_ptr<const RbpfPathNode> p = std::move(previous);
+  while (p && p.use_count() == 1) {
+    std::shared_ptr<const RbpfPathNode> next = std::move(const_cast<RbpfPathNode&>(*p).previous);
+    p = std::move(next);
+  }
+}
+
+std::vector<RbpfPathNode> path_of(const RbpfParticle& particle) {
+  std::vector<RbpfPathNode> out;
+  for (const RbpfPathNode* n = particle.path.get(); n != nullptr; n = n->previous.get()) out.push_back(*n);
+  std::reverse(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace rove
