@@ -23,7 +23,7 @@ constexpr int kLog = GridTile::kLogSide;
 constexpr int kMask = kSide - 1;
 // Cell coordinates stay within ±2³⁰ so tile and window arithmetic cannot
 // overflow an int.
-constexpr int kCellLimit = 1 << 30;
+constexpr int kCellLimit = TiledGrid::kCellLimit;
 
 // A cell is occupied when its value is below this (p(free) < 0.5), as the
 // likelihood field and the distance transform of the flat grid count it.
@@ -60,13 +60,6 @@ TiledGrid::TiledGrid(float resolution) : resolution_(resolution) {
   ROVE_CHECK_MSG(std::isfinite(resolution) && resolution > 0.0f,
                  "a tiled grid needs a finite resolution > 0, got {}", resolution);
   inv_resolution_ = 1.0 / static_cast<double>(resolution);
-}
-
-int TiledGrid::to_idx(double v) const noexcept {
-  const double q = std::floor(v * inv_resolution_);
-  if (!(q > -kCellLimit)) return -kCellLimit;  // also NaN
-  if (q >= kCellLimit) return kCellLimit;
-  return static_cast<int>(q);
 }
 
 std::shared_ptr<GridTile>* TiledGrid::slot(int tx, int ty) noexcept {
@@ -150,44 +143,9 @@ void TiledGrid::set_cell(int cx, int cy, std::int8_t value) {
   row = (row & ~(1u << lx)) | (static_cast<std::uint32_t>(value < occupied_below()) << lx);
 }
 
-std::uint32_t TiledGrid::row_bits(int tx, int ty, int ly) const noexcept {
-  const auto* s = slot(tx, ty);
-  return (s != nullptr && *s) ? (*s)->occupied[static_cast<std::size_t>(ly)] : 0u;
-}
-
 std::uint32_t TiledGrid::squared_distance_to_occupied(int cx, int cy, int max_cells) const {
   ROVE_CHECK_MSG(max_cells >= 0 && max_cells < kSide, "max_cells = {} is outside [0, 32)", max_cells);
-  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  const int tx = tile_of(cx), lx = cx & kMask;
-  std::uint32_t best = kNone;
-  // Rows outward from the cell's own; a row |dy| away cannot beat dy².
-  for (int k = 0; k <= max_cells; ++k) {
-    if (static_cast<std::uint32_t>(k) * static_cast<std::uint32_t>(k) >= best) break;
-    for (int sign = 0; sign < (k == 0 ? 1 : 2); ++sign) {
-      const int y = sign == 0 ? cy + k : cy - k;
-      const int ty = tile_of(y), ly = y & kMask;
-      const std::uint32_t center = row_bits(tx, ty, ly);
-      int dx = kSide + 1;
-      // Nearest occupied cell at or right of cx, then at or left of it.
-      if (const std::uint32_t r = center >> lx; r != 0) {
-        dx = std::countr_zero(r);
-      } else if (const std::uint32_t right = row_bits(tx + 1, ty, ly); right != 0) {
-        dx = (kSide - lx) + std::countr_zero(right);
-      }
-      if (dx > 0) {
-        if (const std::uint32_t l = center << (kMask - lx); l != 0) {
-          dx = std::min(dx, std::countl_zero(l));
-        } else if (const std::uint32_t left = row_bits(tx - 1, ty, ly); left != 0) {
-          dx = std::min(dx, lx + 1 + std::countl_zero(left));
-        }
-      }
-      if (dx <= kSide) {
-        const auto d2 = static_cast<std::uint32_t>(dx * dx + k * k);
-        best = std::min(best, d2);
-      }
-    }
-  }
-  return best;
+  return squared_distance(cx, cy, max_cells);
 }
 
 std::vector<Eigen::Vector2d> TiledGrid::occupied_points(double x0, double x1, double y0,
@@ -616,7 +574,7 @@ double TiledLikelihoodField::log_likelihood(const TiledGrid& grid, const TiledSc
     const double wx = t.x() + scan.xs[j] * cs.x() - scan.ys[j] * cs.y();
     const double wy = t.y() + scan.xs[j] * cs.y() + scan.ys[j] * cs.x();
     const std::uint32_t d2 =
-        grid.squared_distance_to_occupied(grid.x_to_idx(wx), grid.y_to_idx(wy), radius_);
+        grid.squared_distance(grid.to_idx(wx), grid.to_idx(wy), radius_);
     sum += d2 < cap_cells_ ? value_[d2] : capped_;
   }
   return options_.lf_alternate_average_method ? std::log(sum / static_cast<double>(n)) : sum;
@@ -632,7 +590,7 @@ double TiledLikelihoodField::fit(const TiledGrid& grid, const TiledScanPoints& s
   for (std::size_t j = 0; j < n; ++j) {
     const double wx = t.x() + scan.xs[j] * cs.x() - scan.ys[j] * cs.y();
     const double wy = t.y() + scan.xs[j] * cs.y() + scan.ys[j] * cs.x();
-    near += grid.squared_distance_to_occupied(grid.x_to_idx(wx), grid.y_to_idx(wy), radius_) <
+    near += grid.squared_distance(grid.to_idx(wx), grid.to_idx(wy), radius_) <
                     cap_cells_
                 ? 1
                 : 0;

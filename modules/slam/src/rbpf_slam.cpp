@@ -120,15 +120,27 @@ Proposal propose_optimal(const RbpfParticle& p, const UpdateContext& c, Rng& rng
   };
   const Vec3 mode = climb(target, c.prior.mean, 2.0 * c.match_std);
   const Gaussian3 around = Gaussian3::of(mode, diag_sq(c.match_std));
-  // Defensive importance sampling: half around the mode, half from the prior.
-  const std::size_t k = c.options.search_samples;
-  std::vector<Vec3> v(k);
-  std::vector<double> lw(k);
-  for (std::size_t j = 0; j < k; ++j) {
-    v[j] = j < k / 2 ? around.sample(rng) : c.prior.sample(rng);
-    const double lq = std::log(0.5) + log_add(around.log_density(v[j]), c.prior.log_density(v[j]));
-    lw[j] = target(v[j]) - lq;
+  // Defensive importance sampling: half around the mode, half from the
+  // prior, in rounds of kRound (equal halves, so the mixture density is
+  // exact), until the importance weights hold kTargetEss effective samples
+  // or search_samples poses were drawn.
+  constexpr std::size_t kRound = 16;
+  constexpr double kTargetEss = 32.0;
+  const std::size_t k_max = std::max<std::size_t>(kRound, c.options.search_samples / kRound * kRound);
+  std::vector<Vec3> v;
+  std::vector<double> lw;
+  v.reserve(k_max);
+  lw.reserve(k_max);
+  while (v.size() < k_max) {
+    for (std::size_t j = 0; j < kRound; ++j) {
+      const Vec3 x = j < kRound / 2 ? around.sample(rng) : c.prior.sample(rng);
+      const double lq = std::log(0.5) + log_add(around.log_density(x), c.prior.log_density(x));
+      v.push_back(x);
+      lw.push_back(target(x) - lq);
+    }
+    if (summarize_log_weights(lw).effective_sample_size >= kTargetEss) break;
   }
+  const std::size_t k = v.size();
   Proposal out;
   // η = ∫ p(z | x, m) p(x | x', u) dx ≈ mean of the importance weights
   // (Grisetti 2007, eq. 20).
@@ -200,6 +212,16 @@ Proposal propose_icp(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
 std::shared_ptr<const RbpfPathNode> make_node(const SE2d& pose, std::uint64_t step,
                                               std::shared_ptr<const RbpfPathNode> previous) {
   return std::make_shared<RbpfPathNode>(pose, step, std::move(previous));
+}
+
+/// scan.check(), and no NaN range on a ray flagged valid: malformed data
+/// (+inf reads as "no return", MRPT's convention).
+void check_scan(const RangeScan2D& scan) {
+  scan.check();
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    ROVE_CHECK_MSG(!(scan.valid[i] && std::isnan(scan.ranges[i])),
+                   "ray {} of the scan has a NaN range flagged valid", i);
+  }
 }
 
 /// Root-mean-square distance of the points from the robot, clamped to
@@ -279,7 +301,7 @@ std::size_t RbpfSlam::distinct_tiles() const {
 }
 
 std::size_t RbpfSlam::insert(const RangeScan2D& scan, std::uint64_t step) {
-  scan.check();
+  check_scan(scan);
   for (auto& p : particles_) {
     p.path = make_node(p.pose, step, p.path);
   }
@@ -310,7 +332,7 @@ std::size_t RbpfSlam::insert_all(const RangeScan2D& scan) {
 
 RbpfUpdateResult RbpfSlam::update(const OdometryIncrement& motion, const RangeScan2D& scan,
                                   std::uint64_t step, bool insert_scan) {
-  scan.check();
+  check_scan(scan);
   const Eigen::Vector2d& dt = motion.mean.translation();
   ROVE_CHECK_MSG(dt.allFinite() && std::isfinite(motion.mean.angle()) && motion.covariance.allFinite(),
                  "the odometry increment is not finite");

@@ -24,15 +24,6 @@ const RangeScan2D* first_scan(const SensoryFrame& frame) {
   return nullptr;
 }
 
-/// A NaN range on a ray flagged valid is malformed data (a non-finite
-/// range, +inf, reads as "no return" by MRPT's convention).
-void check_ranges(const RangeScan2D& scan) {
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    ROVE_CHECK_MSG(!(scan.valid[i] && std::isnan(scan.ranges[i])),
-                   "ray {} of the scan has a NaN range flagged valid", i);
-  }
-}
-
 SE2d to_se2(const Pose2& p) { return SE2d(p.x(), p.y(), p.phi()); }
 Pose2 to_pose2(const SE2d& t) { return Pose2(t.translation().x(), t.translation().y(), t.angle()); }
 
@@ -70,7 +61,6 @@ class Runner {
       step.scan = true;
       ++res_.scans;
       try {
-        check_ranges(*scan);
         process(*scan, step);
       } catch (const InvalidArgument& e) {
         throw ParseError({rawlog_, std::nullopt, at, "step " + std::to_string(index)},

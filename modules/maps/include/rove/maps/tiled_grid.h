@@ -21,7 +21,9 @@
 /// read and written from different threads (a shared tile is never written
 /// in place).
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -129,6 +131,8 @@ class TiledGrid {
   /// of unknown cells equals a missing one).
   friend bool operator==(const TiledGrid& a, const TiledGrid& b);
 
+  /// Cell coordinates stay within ±kCellLimit (2³⁰).
+  static constexpr int kCellLimit = 1 << 30;
   /// Tile coordinates of a cell coordinate.
   static int tile_of(int c) noexcept { return c >> GridTile::kLogSide; }
 
@@ -137,14 +141,29 @@ class TiledGrid {
                                        const SE2d& T_map_robot,
                                        const GridInsertionOptions& options);
   friend class TiledRayWriter;
-  int to_idx(double v) const noexcept;
+  int to_idx(double v) const noexcept {
+    const double q = v * inv_resolution_;
+    if (!(q > -kCellLimitD)) return -kCellLimit;  // also NaN
+    if (q >= kCellLimitD) return kCellLimit;
+    const int i = static_cast<int>(q);
+    return i - (q < static_cast<double>(i) ? 1 : 0);
+  }
+  // The tile at tile coordinates (tx, ty), or null.
+  const GridTile* tile_ptr(int tx, int ty) const noexcept {
+    const auto i = static_cast<unsigned>(tx - tx0_), j = static_cast<unsigned>(ty - ty0_);
+    if (i >= static_cast<unsigned>(ntx_) || j >= static_cast<unsigned>(nty_)) return nullptr;
+    return tiles_[i + static_cast<std::size_t>(j) * static_cast<std::size_t>(ntx_)].get();
+  }
+  // squared_distance_to_occupied without its precondition check.
+  inline std::uint32_t squared_distance(int cx, int cy, int max_cells) const noexcept;
+  friend class TiledLikelihoodField;
+  static constexpr double kCellLimitD = static_cast<double>(1 << 30);
   // Makes tiles [tx0, tx1] × [ty0, ty1] addressable (growing the table).
   void reserve_tiles(int tx0, int tx1, int ty0, int ty1);
   std::shared_ptr<GridTile>* slot(int tx, int ty) noexcept;
   const std::shared_ptr<GridTile>* slot(int tx, int ty) const noexcept;
   // The tile at (tx, ty) ready for writing: created, or copied when shared.
   GridTile& writable(int tx, int ty, bool* copied = nullptr);
-  std::uint32_t row_bits(int tx, int ty, int ly) const noexcept;
 
   float resolution_;
   double inv_resolution_;
@@ -153,6 +172,46 @@ class TiledGrid {
   std::vector<std::shared_ptr<GridTile>> tiles_;
   bool empty_ = true;
 };
+
+std::uint32_t TiledGrid::squared_distance(int cx, int cy, int max_cells) const noexcept {
+  constexpr int kSide = GridTile::kSide, kMask = kSide - 1, kLog = GridTile::kLogSide;
+  const int tx = cx >> kLog, lx = cx & kMask, ty0 = cy >> kLog;
+  // The tiles left of, at and right of the cell's column in the tile rows
+  // ty0 − 1, ty0, ty0 + 1 (rows within 31 cells reach no farther), fetched
+  // when first needed.
+  const GridTile* near[3][3];
+  bool fetched[3] = {false, false, false};
+  std::uint32_t best = 0xffffffffu;
+  for (int k = 0; k <= max_cells; ++k) {
+    if (static_cast<std::uint32_t>(k * k) >= best) break;
+    for (int side = 0; side < (k == 0 ? 1 : 2); ++side) {
+      const int y = side == 0 ? cy + k : cy - k;
+      const int t = (y >> kLog) - ty0 + 1;
+      if (!fetched[t]) {
+        for (int c = 0; c < 3; ++c) near[t][c] = tile_ptr(tx - 1 + c, ty0 + t - 1);
+        fetched[t] = true;
+      }
+      const std::size_t ly = static_cast<std::size_t>(y & kMask);
+      const std::uint32_t center = near[t][1] != nullptr ? near[t][1]->occupied[ly] : 0u;
+      int dx = kSide + 1;
+      // Nearest occupied cell at or right of cx, then at or left of it.
+      if (const std::uint32_t r = center >> lx; r != 0) {
+        dx = std::countr_zero(r);
+      } else if (near[t][2] != nullptr && near[t][2]->occupied[ly] != 0) {
+        dx = (kSide - lx) + std::countr_zero(near[t][2]->occupied[ly]);
+      }
+      if (dx > 0) {
+        if (const std::uint32_t l = center << (kMask - lx); l != 0) {
+          dx = std::min(dx, std::countl_zero(l));
+        } else if (near[t][0] != nullptr && near[t][0]->occupied[ly] != 0) {
+          dx = std::min(dx, lx + 1 + std::countl_zero(near[t][0]->occupied[ly]));
+        }
+      }
+      if (dx <= kSide) best = std::min(best, static_cast<std::uint32_t>(dx * dx + k * k));
+    }
+  }
+  return best;
+}
 
 /// Inserts `scan`, taken with the robot at T_map_robot, into `grid` with
 /// MRPT's ray casting and options, giving the cells insert_scan
