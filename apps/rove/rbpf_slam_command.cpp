@@ -96,7 +96,7 @@ Written write_outputs(const fs::path& dir, const RbpfSlamResult& res) {
   write_ess(dir / "ess.csv", res);
   add(dir / "ess.csv");
   GridImageOptions scale;  // the whole probability, as MRPT's bitmap
-  scale.mode = RosMapMode::kScale;
+  scale.mode = RosMapMode::Scale;
   const RosMapFiles gf = save_ros_map((dir / "map").string(), res.map, scale);
   w.files.push_back(gf.image);
   w.files.push_back(gf.yaml);

@@ -505,7 +505,7 @@ TiledLikelihoodField::TiledLikelihoodField(float resolution, GridLikelihoodOptio
   insertion_.check();
   ROVE_CHECK_MSG(std::isfinite(resolution) && resolution > 0.0f, "resolution must be > 0, got {}",
                  resolution);
-  ROVE_CHECK_MSG(options_.method == GridLikelihoodMethod::kLikelihoodFieldThrun,
+  ROVE_CHECK_MSG(options_.method == GridLikelihoodMethod::LikelihoodFieldThrun,
                  "the tiled likelihood field implements likelihoodMethod = 4 "
                  "(lmLikelihoodField_Thrun) only, got {}",
                  static_cast<int>(options_.method));

@@ -190,7 +190,7 @@ TEST(TiledGrid, LikelihoodEqualsFlatModel) {
   wide.lf_max_corrs_distance = 2.0f;
   EXPECT_THROW(TiledLikelihoodField(kRes, wide), InvalidArgument);
   GridLikelihoodOptions other;
-  other.method = GridLikelihoodMethod::kConsensus;
+  other.method = GridLikelihoodMethod::Consensus;
   EXPECT_THROW(TiledLikelihoodField(kRes, other), InvalidArgument);
 }
 
@@ -241,7 +241,7 @@ TEST(TiledGrid, DeclinedScanChangesNothing) {
   RangeScan2D scan = room_scan(SE2d(0, 0, 0), rng);
   scan.T_robot_sensor = Pose3(0, 0, 0, 0, 0.5, 0);  // pitched
   const TiledInsertResult r = insert_scan(g, scan, SE2d(0, 0, 0));
-  EXPECT_EQ(r.insertion.status, GridInsertStatus::kNotHorizontal);
+  EXPECT_EQ(r.insertion.status, GridInsertStatus::NotHorizontal);
   EXPECT_TRUE(g.empty());
   EXPECT_EQ(g.tile_count(), 0u);
   EXPECT_THROW(TiledGrid(0.0f), InvalidArgument);

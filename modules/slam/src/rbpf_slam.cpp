@@ -12,7 +12,6 @@
 #include "rove/bayes/log_weights.h"
 #include "rove/bayes/random.h"
 #include "rove/core/check.h"
-#include "rove/poses/pose2.h"
 #include "rove/registration/icp_target_2d.h"
 
 namespace rove {
@@ -188,17 +187,16 @@ Proposal propose_icp(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
   bool accepted = false;
   if (cells.size() >= 3 && c.scan_points.size() >= 3) {
     const IcpTarget2D target(std::move(cells));
-    const Icp2dResult icp =
-        icp_2d(target, c.scan_points, Pose2(t.x(), t.y(), predicted.angle()), c.options.icp);
-    const Pose2& m = icp.T_target_source.mean();
-    Mat3 cov = icp.T_target_source.covariance();
-    accepted = icp.goodness >= c.options.icp_min_quality && std::isfinite(m.x()) &&
-               std::isfinite(m.y()) && std::isfinite(m.phi()) && cov.allFinite();
+    const Icp2dResult icp = icp_2d(target, c.scan_points, predicted, c.options.icp);
+    const SE2d& m = icp.T_target_source;
+    Mat3 cov = icp.covariance;  // over the right tangent at m
+    accepted = icp.goodness >= c.options.icp_min_quality && m.translation().allFinite() &&
+               std::isfinite(m.angle()) && cov.allFinite();
     if (accepted) {
+      // The new pose m ⊕ δ, δ ~ N(0, Σ) over the right tangent.
       cov = 0.5 * (cov + cov.transpose()) + diag_sq(0.25 * c.match_std);
-      const Gaussian3 g = Gaussian3::of(Vec3(m.x(), m.y(), m.phi()), cov);
-      const Vec3 s = g.sample(rng);
-      out.pose = SE2d(s.x(), s.y(), s.z());
+      const Gaussian3 g = Gaussian3::of(Vec3::Zero(), cov);
+      out.pose = m * SE2d::exp(g.sample(rng));
     }
   }
   if (!accepted) {

@@ -72,7 +72,7 @@ void read_grid(const OccupancyGridMetricMap& grid, RbpfSlamOptions& o, const Ini
   o.insertion = grid.insert_options;
   o.likelihood = grid.likelihood_options;
   const std::string lik = std::string(kSec) + "_occupancyGrid_00_likelihoodOpts";
-  if (o.likelihood.method != GridLikelihoodMethod::kLikelihoodFieldThrun) {
+  if (o.likelihood.method != GridLikelihoodMethod::LikelihoodFieldThrun) {
     throw ConfigError(ini.source(), lik, "likelihoodMethod",
                       fmt::format("{} is not supported by rove's RBPF: it evaluates scans with "
                                   "the likelihood field (4, lmLikelihoodField_Thrun)",

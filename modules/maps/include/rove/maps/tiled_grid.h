@@ -241,7 +241,7 @@ struct TiledScanPoints {
 
 /// MRPT's likelihood field (Thrun, Burgard, Fox, "Probabilistic Robotics",
 /// 2005, §6.4, Table 6.3; likelihoodMethod = 4) over a TiledGrid: the
-/// values of GridLikelihoodModel's kLikelihoodFieldThrun for the same cells
+/// values of GridLikelihoodModel's LikelihoodFieldThrun for the same cells
 /// (per point ln(zRandom/maxRange + zHit·exp(−d²/(2σ²))), d the distance
 /// between the point's cell and the nearest occupied cell, capped at
 /// LF_maxCorrsDistance), but found per point from the tiles' occupied bits
@@ -251,7 +251,7 @@ struct TiledScanPoints {
 class TiledLikelihoodField {
  public:
   /// The model for grids of `resolution` meters. Throws InvalidArgument if
-  /// options.check() fails, the method is not kLikelihoodFieldThrun, or
+  /// options.check() fails, the method is not LikelihoodFieldThrun, or
   /// LF_maxCorrsDistance spans 32 cells or more.
   TiledLikelihoodField(float resolution, GridLikelihoodOptions options,
                        GridInsertionOptions insertion = {});

@@ -124,7 +124,7 @@ struct RbpfSlamResult {
   /// Time spent reading the log, seconds.
   double read_seconds = 0.0;
   /// The log's format and entries read.
-  RawlogFormat format = RawlogFormat::kMrpt;
+  RawlogFormat format = RawlogFormat::Mrpt;
   std::uint64_t entries = 0;
   /// The options the filter ran with (seed, threads, overrides applied).
   RbpfSlamOptions options;
