@@ -91,6 +91,7 @@ MrptRun run_mrpt(const std::string& config, const std::string& rawlog, const Tru
   MrptRun r;
   double p2 = 0.0;
   std::size_t np = 0;
+  std::vector<Eigen::Vector3d> path;
   PosePdf pose;
   std::vector<Point> lms;
   std::map<unsigned int, mrpt::maps::CLandmark::TLandmarkID> ids;
@@ -102,12 +103,14 @@ MrptRun run_mrpt(const std::string& config, const std::string& rawlog, const Tru
     r.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     slam.getCurrentRobotPose(pose);
     const mrpt::poses::CPose3D m(pose.mean);
-    if (r.steps < truth.path.size()) {
-      const Eigen::Vector3d d = Eigen::Vector3d(m.x(), m.y(), dim == 3 ? m.z() : 0.0) -
-                                truth.path[r.steps];
-      p2 += d.squaredNorm(), ++np;
-    }
+    path.emplace_back(m.x(), m.y(), dim == 3 ? m.z() : 0.0);
     ++r.steps;
+  }
+  // MRPT reads (action, frame) pairs and passes over a frame before the
+  // first action: its step k is the log's step k + (frames − pairs).
+  const std::size_t offset = truth.path.size() > r.steps ? truth.path.size() - r.steps : 0;
+  for (std::size_t k = 0; k < path.size() && k + offset < truth.path.size(); ++k) {
+    p2 += (path[k] - truth.path[k + offset]).squaredNorm(), ++np;
   }
   slam.getCurrentState(pose, lms, ids, x, P);
   r.landmarks = lms.size();
@@ -148,11 +151,16 @@ int main(int argc, char** argv) {
     const Truth truth = load_truth(c);
     const rove::KfSlamResult rr = rove::run_kf_slam(c, rawlog);
     const bool by_id = rr.association.by_id > 0;
-    const MrptRun mr =
-        c.dim == 3 ? run_mrpt<mrpt::slam::CRangeBearingKFSLAM, mrpt::poses::CPose3DQuatPDFGaussian,
+    MrptRun mr;
+    try {
+      mr =
+          c.dim == 3 ? run_mrpt<mrpt::slam::CRangeBearingKFSLAM, mrpt::poses::CPose3DQuatPDFGaussian,
                               mrpt::math::TPoint3D>(config, rawlog, truth, by_id, 3)
                    : run_mrpt<mrpt::slam::CRangeBearingKFSLAM2D, mrpt::poses::CPosePDFGaussian,
                               mrpt::math::TPoint2D>(config, rawlog, truth, by_id, 2);
+    } catch (const std::exception& e) {
+      std::printf("%s: MRPT failed: %.200s\n", config.c_str(), e.what());
+    }
     // rove's landmark RMSE the same way as MRPT's (by ID or nearest truth).
     double l2 = 0.0;
     std::size_t nl = 0;

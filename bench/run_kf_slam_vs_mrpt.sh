@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # EKF-SLAM: rove against MRPT 2.5.8, Release build (bench preset):
 #
-# 1. MRPT's `kf-slam` application (mrpt-apps) on its own configs, run from
-#    their folder so that their relative paths resolve: does it finish?
+# 1. MRPT's `kf-slam` application (mrpt-apps) on its own configs (copied to
+#    the work folder with their dataset paths made absolute, so that its
+#    logs are written there): does it finish?
 # 2. bench_kf_slam_vs_mrpt: the filter time per step of rove's EkfSlam and
 #    of MRPT's CRangeBearingKFSLAM(2D) library on each config's log, the
 #    landmarks mapped and the path and landmark RMSE against the ground
@@ -26,7 +27,8 @@ echo "== 1. MRPT's kf-slam application"
 if command -v kf-slam >/dev/null; then
   for c in $list; do
     set +e
-    (cd "$configs" && timeout 300 kf-slam "$c" >"$OLDPWD/$work/mrpt_$c.log" 2>&1)
+    sed "s|\.\./\.\./datasets|/usr/share/mrpt/datasets|" "$configs/$c" >"$work/$c"
+    (cd "$work" && timeout 300 kf-slam "$c" >"mrpt_$c.log" 2>&1)
     rc=$?
     set -e
     echo "kf-slam $c: exit $rc$([ $rc -eq 136 ] && echo ' (SIGFPE)')"

@@ -70,6 +70,14 @@ void EkfSlam<Dim>::predict(const std::optional<EkfSlamOdometry<Dim>>& odometry) 
       Q(i, i) = s * s;
     }
   }
+  // While the map is empty the robot's pose defines the map frame: the mean
+  // moves, no uncertainty is added (MRPT skips the whole prediction then).
+  // Otherwise the first landmarks would inherit the robot's uncertainty and
+  // the map's orientation would be free to drift (an unfixed gauge).
+  if (landmark_count() == 0) {
+    pose_ = pose_ * U;
+    return;
+  }
   // X' = X·U: δ' = Adj(U⁻¹)·δ + ε (Solà et al. 2018, Eq. 177).
   const PoseCovariance F = U.inverse().Adj();
   auto P = P_.topLeftCorner(n_, n_);
@@ -239,7 +247,7 @@ bool EkfSlam<Dim>::kalman_update(const EkfSlamFrame<Dim>& frame,
     if (!linearize(static_cast<std::size_t>(l), frame.T_robot_sensor, lin)) return false;
     Eigen::Matrix<double, kM, 1> v = frame.readings[static_cast<std::size_t>(j)].z - lin.z;
     for (int c = 1; c < kM; ++c) v[c] = wrap_to_pi(v[c]);
-    nu.segment(a * kM, kM) = v;
+    nu.template segment<kM>(a * kM) = v;
     PHt.middleCols(a * kM, kM).noalias() =
         P.leftCols(kD) * lin.Hr.transpose() + P.middleCols(lin.col, kL) * lin.Hl.transpose();
   }
@@ -260,7 +268,19 @@ bool EkfSlam<Dim>::kalman_update(const EkfSlamFrame<Dim>& frame,
   const Eigen::VectorXd dx = W * w;
   P.template selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
   for (Eigen::Index c = 1; c < n_; ++c) P.col(c).head(c) = P.row(c).head(c).transpose();
-  pose_ = pose_.oplus(dx.template head<kD>());
+  // Reset of the error state: the posterior error ε about X is moved to the
+  // tangent at X' = X·exp(δx): X·exp(δx + ε) = X'·exp(Jr(δx)·ε) to first
+  // order, so the robot's rows and columns are mapped by Jr(δx) (O(n); the
+  // step is omitted by many EKF-SLAM implementations, and its absence bends
+  // the map when the corrections are large, as without odometry).
+  const typename Pose::Tangent dr = dx.template head<kD>();
+  const PoseCovariance Jr = Pose::right_jacobian(dr);
+  const Eigen::MatrixXd rows = Jr * P.topRows(kD);
+  P.topRows(kD) = rows;
+  P.leftCols(kD) = P.topRows(kD).transpose().eval();
+  P.template topLeftCorner<kD, kD>() =
+      (rows.leftCols(kD) * Jr.transpose() + (rows.leftCols(kD) * Jr.transpose()).transpose()) / 2;
+  pose_ = pose_.oplus(dr);
   landmarks_.head(n_ - kD) += dx.tail(n_ - kD);
   return true;
 }

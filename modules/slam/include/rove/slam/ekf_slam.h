@@ -12,7 +12,9 @@
 ///
 /// Prediction: X ← X·U with U the odometry increment and Σ_U its
 /// covariance over U's right tangent: δ' = Adj(U⁻¹)·δ + ε, so only the
-/// robot's rows and columns change, O(n) for n state components.
+/// robot's rows and columns change, O(n) for n state components. While the
+/// map is empty only the mean moves: the robot's pose at its first
+/// landmarks fixes the map frame (MRPT skips the prediction then).
 ///
 /// Update: the sensor sees p_s = (X·T_robot_sensor)⁻¹·p_world and measures
 /// r = ‖p_s‖, yaw = atan2(y, x), pitch = −atan2(z, √(x²+y²)) (positive pitch
