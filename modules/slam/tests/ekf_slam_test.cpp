@@ -147,6 +147,9 @@ void nees_test(std::uint64_t seed) {
   for (int run = 0; run < kRuns; ++run) {
     test::SlamSim<Dim> sim(seed + static_cast<std::uint64_t>(run));
     EkfSlam<Dim> slam(sim.options());
+    // The first landmarks are seen from the start pose, which fixes the map
+    // frame of both the filter and the simulation.
+    slam.update(sim.sense());
     for (int k = 0; k < kSteps; ++k) {
       const auto odo = sim.move();  // before sense(): the readings are of the moved robot
       slam.step(odo, sim.sense());
