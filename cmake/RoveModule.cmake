@@ -124,13 +124,19 @@ function(rove_add_module name)
       # the parity tests against MRPT's or PCL's own outputs, run through
       # the named compatibility strategy (suite name containing "MrptCompat"
       # or "PclCompat"), get the label `mrpt_compat`. Correctness tests
-      # (ground truth, properties, oracles) carry neither.
+      # (ground truth, properties, oracles) carry neither. Suites ending in
+      # "Browser" drive headless Chromium (Debian's chromium, installed by
+      # scripts/install-deps): label `browser`; they fail, never skip, when
+      # it is missing.
       set(hook ${CMAKE_CURRENT_BINARY_DIR}/rove_${name}_tests_datasets.cmake)
       file(WRITE ${hook}
         "foreach(t IN LISTS rove_${name}_tests_TESTS)\n"
         "  set(labels ${name})\n"
         "  if(t MATCHES \"(Mrpt|Pcl)Compat\")\n"
         "    list(APPEND labels mrpt_compat)\n"
+        "  endif()\n"
+        "  if(t MATCHES \"Browser\\\\.\")\n"
+        "    list(APPEND labels browser)\n"
         "  endif()\n"
         "  if(t MATCHES \"Datasets\\\\.\")\n"
         "    list(APPEND labels datasets)\n"

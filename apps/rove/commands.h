@@ -45,5 +45,8 @@ void add_octomap_command(CLI::App& app);
 /// `rove nav plan MAP --start x,y --goal x,y -o PATH.tum`: grid path planning
 /// for a disc robot.
 void add_nav_command(CLI::App& app);
+/// `rove view FILE... [--port P] [--export S.glb] [--html P.html] [--screenshot P.png]`:
+/// one 3D scene from rove's files and output folders, in a web browser.
+void add_view_command(CLI::App& app);
 
 }  // namespace rove::cli

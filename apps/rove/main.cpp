@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
   rove::cli::add_eval_command(app);
   rove::cli::add_octomap_command(app);
   rove::cli::add_nav_command(app);
+  rove::cli::add_view_command(app);
   rove::install_interrupt_handler();
   if (argc < 2) {
     fmt::print(stderr, "{}", app.help());

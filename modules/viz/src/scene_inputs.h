@@ -1,0 +1,32 @@
+#pragma once
+// The loaders behind add_scene_input, one per kind of input (internal).
+
+#include <string>
+#include <vector>
+
+#include "rove/viz/scene_files.h"
+
+namespace rove::detail {
+
+/// Whether `s` ends with `suffix`, ignoring ASCII case.
+bool ends_with_ci(std::string_view s, std::string_view suffix);
+/// The file (or folder) name of a path, printable, for layer names.
+std::string display_name(const std::string& path);
+
+/// Each adds its input to the scene and returns what it added, for the report.
+std::string add_cloud_file(Scene& scene, const std::string& path, bool pcd, const SceneLoadOptions& o,
+                           SceneLoadReport& report);
+std::string add_map_file(Scene& scene, const std::string& path);
+std::string add_octree_file(Scene& scene, const std::string& path);
+std::string add_trajectory_file(Scene& scene, const std::string& path, bool kitti, const TrajectoryLayerOptions& o);
+std::string add_graph_file(Scene& scene, const std::string& path);
+std::string add_rawlog_file(Scene& scene, const std::string& path, const SceneLoadOptions& o);
+/// Particle files of rove pf-localization, times from `step_times` (step
+/// index → seconds; the step index itself when absent).
+std::string add_particle_files(Scene& scene, const std::vector<std::string>& paths,
+                               const std::vector<double>& step_times);
+std::string add_steps_file(Scene& scene, const std::string& path, const SceneLoadOptions& o);
+std::string add_output_folder(Scene& scene, const std::string& path, SceneInputKind kind, const SceneLoadOptions& o,
+                              SceneLoadReport& report);
+
+}  // namespace rove::detail
