@@ -216,24 +216,43 @@ std::string add_graph_file(Scene& scene, const std::string& path) {
 
 }  // namespace detail
 
+namespace {
+
+std::string add_input_of_kind(Scene& scene, const std::string& path, SceneInputKind kind,
+                              const SceneLoadOptions& options, SceneLoadReport& report) {
+  switch (kind) {
+    case SceneInputKind::Pcd: return detail::add_cloud_file(scene, path, true, options, report);
+    case SceneInputKind::Ply: return detail::add_cloud_file(scene, path, false, options, report);
+    case SceneInputKind::RosMap: return detail::add_map_file(scene, path);
+    case SceneInputKind::Octree: return detail::add_octree_file(scene, path);
+    case SceneInputKind::TumTrajectory: return detail::add_trajectory_file(scene, path, false, {});
+    case SceneInputKind::KittiTrajectory: return detail::add_trajectory_file(scene, path, true, {});
+    case SceneInputKind::PoseGraph: return detail::add_graph_file(scene, path);
+    case SceneInputKind::Rawlog: return detail::add_rawlog_file(scene, path, options);
+    case SceneInputKind::Particles: return detail::add_particle_files(scene, {path}, {});
+    case SceneInputKind::PfSteps: return detail::add_steps_file(scene, path, options);
+    default: return detail::add_output_folder(scene, path, kind, options, report);
+  }
+}
+
+}  // namespace
+
 void add_scene_input(Scene& scene, const std::string& path, const SceneLoadOptions& options, SceneLoadReport& report) {
   const SceneInputKind kind = detect_scene_input(path);
-  Scene work = scene;  // the scene is left as it was when the input fails
+  // On failure the scene is put back as it was: the layers added so far
+  // dropped, the time origin restored.
+  const std::size_t layers_before = scene.layers.size();
+  const double origin_before = scene.time_origin;
+  const std::size_t skipped_before = report.skipped_points;
   std::string what;
-  switch (kind) {
-    case SceneInputKind::Pcd: what = detail::add_cloud_file(work, path, true, options, report); break;
-    case SceneInputKind::Ply: what = detail::add_cloud_file(work, path, false, options, report); break;
-    case SceneInputKind::RosMap: what = detail::add_map_file(work, path); break;
-    case SceneInputKind::Octree: what = detail::add_octree_file(work, path); break;
-    case SceneInputKind::TumTrajectory: what = detail::add_trajectory_file(work, path, false, {}); break;
-    case SceneInputKind::KittiTrajectory: what = detail::add_trajectory_file(work, path, true, {}); break;
-    case SceneInputKind::PoseGraph: what = detail::add_graph_file(work, path); break;
-    case SceneInputKind::Rawlog: what = detail::add_rawlog_file(work, path, options); break;
-    case SceneInputKind::Particles: what = detail::add_particle_files(work, {path}, {}); break;
-    case SceneInputKind::PfSteps: what = detail::add_steps_file(work, path, options); break;
-    default: what = detail::add_output_folder(work, path, kind, options, report); break;
+  try {
+    what = add_input_of_kind(scene, path, kind, options, report);
+  } catch (...) {
+    scene.layers.resize(layers_before);
+    scene.time_origin = origin_before;
+    report.skipped_points = skipped_before;
+    throw;
   }
-  scene = std::move(work);
   scene.sources.push_back(path);
   report.loaded.push_back(fmt::format("{}: {}, {}", printable(path), to_string(kind), what));
 }

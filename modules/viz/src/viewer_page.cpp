@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cmath>
 #include <filesystem>
 
 #include "rove/core/check.h"
@@ -32,8 +33,13 @@ std::string with_scripts(std::string_view scripts) {
 
 std::string start_call(const ViewerPageOptions& o, std::string_view source) {
   ROVE_CHECK_GT(o.lod_budget, std::size_t{0});
-  return fmt::format("<script>roveView({{{}, lodBudget: {}, bench: {}, panel: {}}});</script>\n", source,
-                     o.lod_budget, o.bench ? "true" : "false", o.panel ? "true" : "false");
+  std::string pick = "null";
+  if (o.pick_at) {
+    ROVE_CHECK_MSG(std::isfinite((*o.pick_at)[0]) && std::isfinite((*o.pick_at)[1]), "pick_at must be finite");
+    pick = fmt::format("[{}, {}]", (*o.pick_at)[0], (*o.pick_at)[1]);
+  }
+  return fmt::format("<script>roveView({{{}, lodBudget: {}, bench: {}, panel: {}, pickAt: {}}});</script>\n", source,
+                     o.lod_budget, o.bench ? "true" : "false", o.panel ? "true" : "false", pick);
 }
 
 // A script inlined into a page must not close its <script> element early.

@@ -17,6 +17,7 @@
 #include "rove/test_data.h"
 #include "rove/viz/glb.h"
 #include "rove/viz/headless_browser.h"
+#include "rove/viz/scene_builders.h"
 #include "rove/viz/scene_files.h"
 #include "rove/viz/viewer_page.h"
 #include "rove/viz/viewer_server.h"
@@ -123,6 +124,32 @@ TEST(ViewerBrowser, ServedPageShowsAGridATrajectoryAndAPoseGraph) {
   // The page, three.js, its loader and controls, the viewer and the scene.
   EXPECT_GE(server.requests(), 6u);
   server.stop();
+  fs::remove_all(dir);
+}
+
+TEST(ViewerBrowser, AClickAtTheCentrePicksThePointThereWithItsFileIndex) {
+  // Three points on a line: the camera looks at the middle one, which the
+  // spread order stores as vertex 2 (step 2 of 3): the page must report
+  // the file's index 1.
+  PointCloud c;
+  c.push_back({-1.0f, 0.0f, 0.0f});
+  c.push_back({0.0f, 0.0f, 0.0f});
+  c.push_back({1.0f, 0.0f, 0.0f});
+  Scene scene;
+  add_point_cloud(scene, c, "three");
+  ASSERT_EQ(scene.layers[0].positions[2], Eigen::Vector3f(0, 0, 0));
+  const fs::path dir = temp_folder("pick");
+  ViewerPageOptions po;
+  po.pick_at = std::array<double, 2>{0.0, 0.0};
+  const fs::path html = dir / "pick.html";
+  write_text_file_atomically(html, standalone_page(write_glb_to_memory(scene), po));
+  const JsonValue stats = stats_of(headless_dump_dom(file_url(html.string())));
+  ASSERT_TRUE(stats.contains("pick")) << "no pick in the stats";
+  const JsonValue& pick = stats["pick"];
+  ASSERT_TRUE(pick.is_object()) << "nothing picked at the centre";
+  EXPECT_EQ(pick["layer"].as_string(), "three");
+  EXPECT_EQ(pick["index"].as_index(), 1u);
+  EXPECT_EQ(pick["x"].as_number(), 0.0);
   fs::remove_all(dir);
 }
 

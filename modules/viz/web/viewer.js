@@ -164,6 +164,11 @@
       self.stats.load_ms = Math.round(performance.now() - self.t0);
       self.stats.title = self.meta.title || '';
       document.title = 'rove view: ' + (self.meta.title || 'scene');
+      if (self.opts.pickAt) {
+        var hit = self.pick(self.opts.pickAt[0], self.opts.pickAt[1]);
+        self.stats.pick = hit ? { layer: hit.layer, kind: hit.kind, index: hit.index, x: hit.x, y: hit.y, z: hit.z }
+          : null;
+      }
       self.publishStats();
       if (self.opts.bench) self.bench();
     }, 0);

@@ -9,7 +9,9 @@
 /// load time) and titles itself "rove view: <title>" when ready or
 /// "rove view: error" when not, for scripts and tests.
 
+#include <array>
 #include <cstddef>
+#include <optional>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -40,6 +42,10 @@ struct ViewerPageOptions {
   /// Show the control panel (layers, point size, colours, time); false
   /// leaves only the title, for pictures.
   bool panel = true;
+  /// When set, the page clicks at these normalized device coordinates
+  /// (−1..1, y up; (0, 0) is the centre) once loaded and publishes what it
+  /// picked in the stats ("pick": layer, kind, index in the source, x, y, z).
+  std::optional<std::array<double, 2>> pick_at;
 };
 
 /// Reads one of three_script_files() from `three_dir`. Throws IoError naming

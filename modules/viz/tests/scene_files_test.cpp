@@ -1,0 +1,165 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "rove/core/error.h"
+#include "rove/core/files.h"
+#include "rove/graph/graph_io.h"
+#include "rove/io/grid_image.h"
+#include "rove/io/tum_trajectory.h"
+#include "rove/test_data.h"
+#include "rove/viz/scene_files.h"
+
+namespace rove {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SceneFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rove_scene_files_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    write_text_file_atomically(dir_ / name, text);
+    return (dir_ / name).string();
+  }
+  fs::path dir_;
+};
+
+std::size_t vertices_of(const Scene& s, LayerKind kind) {
+  std::size_t n = 0;
+  for (const auto& l : s.layers) n += l.kind == kind ? l.positions.size() : 0;
+  return n;
+}
+
+TEST_F(SceneFiles, TextFilesAreToldApartByTheirFirstRow) {
+  EXPECT_EQ(detect_scene_input(write("a.txt", "# t x y z qx qy qz qw\n1 0 0 0 0 0 0 1\n")),
+            SceneInputKind::TumTrajectory);
+  EXPECT_EQ(detect_scene_input(write("b.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n")), SceneInputKind::KittiTrajectory);
+  EXPECT_EQ(detect_scene_input(write("c.txt", "VERTEX2 0 0 0 0\n")), SceneInputKind::PoseGraph);
+  EXPECT_EQ(detect_scene_input(write("particles_00003_final.txt", "% x y yaw w\n")), SceneInputKind::Particles);
+  EXPECT_THROW(detect_scene_input(write("d.txt", "hello world\n")), ParseError);
+  EXPECT_THROW(detect_scene_input(write("e.dat", "1 2 3\n")), ParseError);
+  EXPECT_THROW(detect_scene_input((dir_ / "missing.pcd").string()), IoError);
+  EXPECT_THROW(detect_scene_input(dir_.string()), ParseError);  // a folder of nothing rove wrote
+}
+
+TEST_F(SceneFiles, KittiPosesBecomeATrajectory) {
+  const std::string p = write("poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 2 0 1 0 1 0 0 1 0\n1 0 0 4 0 1 0 1 0 0 1 3\n");
+  Scene s;
+  SceneLoadReport r;
+  add_scene_input(s, p, {}, r);
+  ASSERT_EQ(r.loaded.size(), 1u);
+  EXPECT_NE(r.loaded[0].find("KITTI trajectory, 3 poses"), std::string::npos) << r.loaded[0];
+  EXPECT_EQ(s.layers[0].positions[2], Eigen::Vector3f(4, 1, 3));
+  EXPECT_EQ(s.layers[0].times, (std::vector<float>{0, 1, 2}));
+}
+
+TEST_F(SceneFiles, LidarSlamFolderGivesMapGraphAndPaths) {
+  OccupancyGrid g(0.0f, 4.0f, 0.0f, 2.0f, 0.1f);
+  save_ros_map((dir_ / "map").string(), g);
+  PoseGraph2D graph;
+  for (int i = 0; i < 5; ++i) graph.add_vertex(static_cast<VertexId>(i), SE2d(i, 0, 0));
+  for (int i = 0; i < 4; ++i) graph.add_edge(static_cast<VertexId>(i), static_cast<VertexId>(i + 1), SE2d(1, 0, 0));
+  graph.add_edge(0, 4, SE2d(4, 0, 0));
+  graph.add_edge(1, 3, SE2d(2, 0, 0));
+  write_graph(graph, (dir_ / "graph.g2o").string());
+  std::vector<TimedPose2> path;
+  for (int i = 0; i < 5; ++i) path.push_back({Timestamp::from_seconds(10 + i), Pose2(i, 0, 0)});
+  for (const char* name : {"path.tum", "nodes.tum", "odometry.tum"}) write_tum_trajectory((dir_ / name).string(), path);
+  EXPECT_EQ(detect_scene_input(dir_.string()), SceneInputKind::LidarSlamFolder);
+  Scene s;
+  const std::vector<std::string> inputs = {dir_.string()};
+  const SceneLoadReport r = build_scene(s, inputs);
+  ASSERT_TRUE(r.skipped.empty()) << r.skipped.front();
+  EXPECT_NE(r.loaded[0].find("rove lidar-slam output"), std::string::npos);
+  EXPECT_NE(r.loaded[0].find("2 loop closures"), std::string::npos) << r.loaded[0];
+  EXPECT_EQ(vertices_of(s, LayerKind::Grid), 4u);
+  EXPECT_EQ(vertices_of(s, LayerKind::GraphVertices), 5u);
+  EXPECT_EQ(vertices_of(s, LayerKind::LoopEdges), 4u);
+  EXPECT_EQ(vertices_of(s, LayerKind::Trajectory), 5u);
+  EXPECT_EQ(vertices_of(s, LayerKind::Path), 5u);
+  EXPECT_EQ(vertices_of(s, LayerKind::Label), 1u);
+  EXPECT_EQ(s.time_origin, 10.0);
+}
+
+TEST_F(SceneFiles, PfLocalizationFolderTimesParticlesByTheirStep) {
+  std::vector<TimedPose2> path = {{Timestamp::from_seconds(100), Pose2(0, 0, 0)},
+                                  {Timestamp::from_seconds(101), Pose2(1, 0, 0)}};
+  write_tum_trajectory((dir_ / "path.tum").string(), path);
+  write("steps.txt",
+        "# step time x y phi particles ess converged mass scan_fit range_residual injected cov_xx cov_xy cov_xphi "
+        "cov_yy cov_yphi cov_phiphi seconds\n"
+        "0 100.0 0 0 0 10 5 0 0.5 -1 -1 0 0.25 0 0 0.04 0 0.01 0.001\n"
+        "1 101.0 1 0 0 10 5 1 0.9 -1 -1 0 0.01 0 0 0.01 0 0.01 0.001\n");
+  write("particles_initial.txt", "% x  y  yaw[rad] log_weight\n0 0 0 0\n1 1 0 -1\n");
+  write("particles_00001_final.txt", "% x  y  yaw[rad] log_weight\n1 0 0 0\n1.1 0 0 0\n1.2 0 0 0\n");
+  Scene s;
+  SceneLoadReport r;
+  add_scene_input(s, dir_.string(), {}, r);
+  EXPECT_NE(r.loaded[0].find("2 particle sets, 5 particles"), std::string::npos) << r.loaded[0];
+  const Layer* particles = nullptr;
+  const Layer* ellipses = nullptr;
+  for (const auto& l : s.layers) {
+    if (l.kind == LayerKind::Particles) particles = &l;
+    if (l.kind == LayerKind::Covariance) ellipses = &l;
+  }
+  ASSERT_NE(particles, nullptr);
+  ASSERT_NE(ellipses, nullptr);
+  // Initial set just before step 0 (t = 100 s), the final set at step 1.
+  EXPECT_NEAR(particles->times.front() + s.time_origin, 100.0 - 1e-3, 1e-6);
+  EXPECT_EQ(particles->times.back() + s.time_origin, 101.0);
+  EXPECT_EQ(particles->positions.size(), 5u);
+  // Step 0's ellipse: sigma 0.5 m by 0.2 m, 3-sigma half axes 1.5 and 0.6.
+  float max_x = 0;
+  for (std::size_t i = 0; i < ellipses->positions.size() / 2; ++i) max_x = std::max(max_x, ellipses->positions[i].x());
+  EXPECT_NEAR(max_x, 1.5f, 1e-4);
+}
+
+TEST_F(SceneFiles, BadParticleFileNamesTheLine) {
+  const std::string p = write("particles_00002_x.txt", "% x y yaw w\n1 2 3 4\n1 two 3 4\n");
+  Scene s;
+  SceneLoadReport r;
+  try {
+    add_scene_input(s, p, {}, r);
+    FAIL();
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.location().line, 3u);
+  }
+  EXPECT_TRUE(s.layers.empty());  // the scene is left as it was
+}
+
+TEST_F(SceneFiles, RawlogScansFollowTheOdometry) {
+  Scene s;
+  SceneLoadReport r;
+  add_scene_input(s, test_data::bundled_file("mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog"), {}, r);
+  ASSERT_EQ(r.loaded.size(), 1u);
+  // The Telecom loop: 225 scans (as rove icp-slam reads it).
+  EXPECT_NE(r.loaded[0].find("225 scans along the odometry"), std::string::npos) << r.loaded[0];
+  EXPECT_GT(vertices_of(s, LayerKind::Scans), 225u * 100u);
+  EXPECT_EQ(vertices_of(s, LayerKind::Trajectory), 225u);
+  // The scans' times never go back (the slider shows them cumulatively).
+  const Layer& scans = s.layers[0];
+  EXPECT_TRUE(std::is_sorted(scans.times.begin(), scans.times.end()));
+}
+
+TEST_F(SceneFiles, BuildSceneSkipsWhatFailsAndNamesIt) {
+  const std::string bad = write("bad.pcd", "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\n");
+  const std::vector<std::string> inputs = {bad, test_data::bundled_file("pointcloud/bunny.pcd")};
+  Scene s;
+  const SceneLoadReport r = build_scene(s, inputs);
+  ASSERT_EQ(r.skipped.size(), 1u);
+  EXPECT_NE(r.skipped[0].find("bad.pcd"), std::string::npos) << r.skipped[0];
+  EXPECT_EQ(s.layers.size(), 1u);
+  EXPECT_EQ(s.title, "bunny.pcd");
+  EXPECT_EQ(s.sources.size(), 1u);
+}
+
+}  // namespace
+}  // namespace rove
