@@ -99,6 +99,39 @@ TEST(SceneBuilders, LargeGridTextureShrinksToTheLimit) {
   EXPECT_EQ(s.layers[0].texture->height, 334u);
 }
 
+TEST(SceneBuilders, OctreeLeavesBecomeBoxesOfTheirSize) {
+  OccupancyOctree tree(0.5);
+  const Eigen::Vector3d a(0.25, 0.25, 0.25), b(2.25, 0.25, 1.25), free_cell(1.25, 1.25, 0.25);
+  for (int k = 0; k < 3; ++k) {
+    tree.update_node(tree.key_checked(a), true);
+    tree.update_node(tree.key_checked(b), true);
+    tree.update_node(tree.key_checked(free_cell), false);
+  }
+  Scene s;
+  add_octree(s, tree, "tree");
+  const Layer& l = s.layers[0];
+  EXPECT_EQ(l.kind, LayerKind::Voxels);
+  EXPECT_EQ(l.primitive, Primitive::Triangles);
+  ASSERT_EQ(l.positions.size(), 16u);  // two occupied leaves, 8 corners each
+  EXPECT_EQ(l.indices.size(), 72u);    // 12 triangles each
+  // Each box spans its cell: corners at the centre ± 0.25 m.
+  Eigen::Vector3f lo = l.positions[0], hi = l.positions[0];
+  for (const auto& p : l.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  EXPECT_TRUE(lo.isApprox(Eigen::Vector3f(0.0f, 0.0f, 0.0f)));
+  EXPECT_TRUE(hi.isApprox(Eigen::Vector3f(2.5f, 0.5f, 1.5f)));
+  s.check();
+  // Drawn as centres when there are more leaves than boxes allowed.
+  VoxelLayerOptions o;
+  o.max_boxes = 1;
+  add_octree(s, tree, "points", o);
+  EXPECT_EQ(s.layers[1].primitive, Primitive::Points);
+  EXPECT_EQ(s.layers[1].positions.size(), 2u);
+  EXPECT_THROW(add_octree(s, OccupancyOctree(0.1), "empty"), InvalidArgument);
+}
+
 TEST(SceneBuilders, TrajectoryTimesAreRelativeToTheSceneOrigin) {
   std::vector<StampedPose3> p;
   for (int i = 0; i < 5; ++i) {
