@@ -84,7 +84,10 @@ class GltfBuilder {
 
 std::string float_list(std::initializer_list<float> v) {
   std::string s = "[";
-  for (float x : v) s += (s.size() > 1 ? "," : "") + fmt::format("{}", static_cast<double>(x));
+  for (float x : v) {
+    if (s.size() > 1) s += ',';
+    s += fmt::format("{}", static_cast<double>(x));
+  }
   return s + "]";
 }
 
