@@ -20,7 +20,7 @@ namespace {
 
 using Color = std::uint8_t;
 constexpr Color kBackground = 0, kTruthPath = 1, kTruthLandmark = 2, kPath = 3, kEllipse = 4,
-                kLandmark = 5;
+                kLandmark = 5, kSample = 6;
 const std::vector<PaletteColor> kPalette = {
     {255, 255, 255},  // background
     {150, 150, 150},  // ground-truth path
@@ -28,6 +28,7 @@ const std::vector<PaletteColor> kPalette = {
     {40, 80, 220},    // estimated path
     {245, 160, 60},   // uncertainty ellipses
     {200, 0, 0},      // landmarks
+    {150, 60, 200},   // samples
 };
 
 // Points of the x-y marginal ellipse of `cov` at `k` standard deviations.
@@ -46,20 +47,18 @@ std::vector<Eigen::Vector2d> ellipse(const Eigen::Vector2d& c, const Eigen::Matr
 
 }  // namespace
 
-void write_kf_slam_picture(const KfSlamResult& res, double quantiles, const std::string& path,
-                           int size_px) {
+void write_landmark_picture(const LandmarkPicture& pic, double quantiles, const std::string& path,
+                            int size_px) {
   ROVE_CHECK_MSG(size_px >= 64 && size_px <= 8192, "picture size {} outside [64, 8192]", size_px);
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;
-  auto grow = [&](const Eigen::Vector2d& p) { lo = lo.cwiseMin(p), hi = hi.cwiseMax(p); };
-  for (const auto& s : res.steps) {
-    grow(s.pose.translation().head<2>());
-    if (s.ground_truth) grow(s.ground_truth->translation().head<2>());
-  }
-  for (const auto& l : res.landmarks) {
-    grow(l.mean.head<2>());
-    if (l.truth) grow(l.truth->head<2>());
-  }
+  auto grow = [&](const std::vector<Eigen::Vector2d>& ps) {
+    for (const auto& p : ps) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  };
+  grow(pic.path);
+  grow(pic.truth_path);
+  grow(pic.true_landmarks);
+  for (const auto& l : pic.landmarks) grow({l.mean});
   if (!(lo.x() <= hi.x())) lo.setConstant(-1.0), hi.setConstant(1.0);
   const int margin = 20;
   const double span = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1e-9});
@@ -76,29 +75,39 @@ void write_kf_slam_picture(const KfSlamResult& res, double quantiles, const std:
       canvas.line(a.x(), a.y(), b.x(), b.y(), c);
     }
   };
-  std::vector<Eigen::Vector2d> truth_path, est_path;
-  for (const auto& s : res.steps) {
-    est_path.push_back(s.pose.translation().head<2>());
-    if (s.ground_truth) truth_path.push_back(s.ground_truth->translation().head<2>());
+  for (const auto& q : pic.samples) {
+    const Eigen::Vector2i p = px(q);
+    canvas.set(p.x(), p.y(), kSample);
   }
-  polyline(truth_path, kTruthPath);
-  polyline(est_path, kPath);
-  for (const auto& l : res.landmarks) {
-    if (!l.truth) continue;
-    const Eigen::Vector2i p = px(l.truth->head<2>());
+  polyline(pic.truth_path, kTruthPath);
+  polyline(pic.path, kPath);
+  for (const auto& t : pic.true_landmarks) {
+    const Eigen::Vector2i p = px(t);
     canvas.line(p.x() - 4, p.y(), p.x() + 4, p.y(), kTruthLandmark);
     canvas.line(p.x(), p.y() - 4, p.x(), p.y() + 4, kTruthLandmark);
   }
-  for (const auto& l : res.landmarks) {
-    polyline(ellipse(l.mean.head<2>(), l.covariance.topLeftCorner<2, 2>(), quantiles), kEllipse);
-  }
-  for (const auto& l : res.landmarks) {
-    const Eigen::Vector2i p = px(l.mean.head<2>());
+  for (const auto& l : pic.landmarks) polyline(ellipse(l.mean, l.covariance, quantiles), kEllipse);
+  for (const auto& l : pic.landmarks) {
+    const Eigen::Vector2i p = px(l.mean);
     canvas.dot(p.x(), p.y(), 2, kLandmark);
   }
   PngEncoding encoding;
   encoding.palette = kPalette;
   write_png(path, canvas.image(), encoding);
+}
+
+void write_kf_slam_picture(const KfSlamResult& res, double quantiles, const std::string& path,
+                           int size_px) {
+  LandmarkPicture pic;
+  for (const auto& s : res.steps) {
+    pic.path.push_back(s.pose.translation().head<2>());
+    if (s.ground_truth) pic.truth_path.push_back(s.ground_truth->translation().head<2>());
+  }
+  for (const auto& l : res.landmarks) {
+    if (l.truth) pic.true_landmarks.push_back(l.truth->head<2>());
+    pic.landmarks.push_back({l.mean.head<2>(), l.covariance.topLeftCorner<2, 2>()});
+  }
+  write_landmark_picture(pic, quantiles, path, size_px);
 }
 
 }  // namespace rove::cli

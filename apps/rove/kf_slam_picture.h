@@ -7,10 +7,34 @@
 /// deviations, orange). A palette PNG.
 
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "rove/slam/kf_slam_run.h"
 
 namespace rove::cli {
+
+/// What a landmark picture shows (map frame, meters).
+struct LandmarkPicture {
+  /// One mapped landmark: its mean and x-y covariance (m²).
+  struct Mark {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  };
+  std::vector<Eigen::Vector2d> truth_path;      ///< gray
+  std::vector<Eigen::Vector2d> path;            ///< blue
+  std::vector<Eigen::Vector2d> true_landmarks;  ///< green crosses
+  std::vector<Mark> landmarks;                  ///< red dots in orange ellipses
+  std::vector<Eigen::Vector2d> samples;         ///< single purple pixels (particles, samples)
+};
+
+/// Writes `picture` to `path` atomically as a square palette PNG of
+/// `size_px` pixels, ellipses at `quantiles` standard deviations. Throws
+/// InvalidArgument if size_px is outside [64, 8192], IoError if the file
+/// cannot be written.
+void write_landmark_picture(const LandmarkPicture& picture, double quantiles,
+                            const std::string& path, int size_px = 900);
 
 /// Writes `path` atomically as a square picture of `size_px` pixels.
 /// Throws InvalidArgument if size_px is outside [64, 8192], IoError if the

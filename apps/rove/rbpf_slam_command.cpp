@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "commands.h"
+#include "filter_command.h"
+#include "rbpf_slam_cli.h"
 #include "report.h"
 #include "rove/core/error.h"
 #include "rove/core/files.h"
@@ -28,19 +30,6 @@ namespace rove::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct RbpfSlamCliOptions {
-  std::string config;
-  std::string rawlog;
-  std::string out_dir = "rbpf-slam-out";
-  bool json = false;
-  bool progress = true;
-  std::uint64_t seed = 0;
-  int threads = 1;
-  std::optional<std::uint64_t> max_steps;
-  std::optional<std::uint32_t> particles;
-  std::string reference;
-};
 
 // The map's agreement with a reference map of the same data (--reference).
 struct Reference {
@@ -81,18 +70,7 @@ struct Written {
 Written write_outputs(const fs::path& dir, const RbpfSlamResult& res) {
   Written w;
   const auto add = [&](const fs::path& p) { w.files.push_back(p.string()); };
-  std::vector<TimedPose2> est, odo;
-  for (std::size_t k = 0; k < res.steps.size(); ++k) {
-    const RbpfSlamStep& s = res.steps[k];
-    // A step without a time gets its index as seconds (TUM needs a time).
-    const Timestamp t = s.time.valid() ? s.time : Timestamp::from_seconds(static_cast<double>(s.index));
-    est.push_back({t, res.path[k]});
-    odo.push_back({t, s.odometry});
-  }
-  write_tum_trajectory((dir / "path.tum").string(), est);
-  add(dir / "path.tum");
-  write_tum_trajectory((dir / "odometry.tum").string(), odo);
-  add(dir / "odometry.tum");
+  write_rbpf_paths(dir, res.steps, res.path, w.files);
   write_ess(dir / "ess.csv", res);
   add(dir / "ess.csv");
   GridImageOptions scale;  // the whole probability, as MRPT's bitmap
@@ -111,15 +89,8 @@ std::string summary_json(const RbpfSlamCliOptions& o, const std::string& config,
                          const std::string& rawlog, const RbpfSlamConfig& cfg,
                          const RbpfSlamResult& res, const std::optional<Reference>& ref,
                          const std::vector<Issue>& issues, const Written& w, double total) {
-  std::size_t resampled = 0;
-  double ess_sum = 0.0, ess_min = 1.0, max_step = 0.0;
-  for (const auto& s : res.steps) {
-    max_step = std::max(max_step, s.seconds);
-    if (!s.updated) continue;
-    resampled += s.update.resampled ? 1 : 0;
-    ess_sum += s.update.ess;
-    ess_min = std::min(ess_min, s.update.ess);
-  }
+  double max_step = 0.0;
+  for (const auto& s : res.steps) max_step = std::max(max_step, s.seconds);
   const Pose2& last = res.path.back();
   JsonWriter j;
   j.begin_object();
@@ -131,17 +102,8 @@ std::string summary_json(const RbpfSlamCliOptions& o, const std::string& config,
   j.key("proposal").value(std::string(mrpt_name(res.options.proposal)));
   j.key("particles").value(res.options.particles);
   j.key("resolution").value(static_cast<double>(res.options.resolution));
-  j.key("steps").value(res.steps.size());
   j.key("scans").value(res.scans);
-  j.key("updates").value(res.updates);
-  j.key("insertions").value(res.insertions);
-  j.key("resamplings").value(resampled);
-  j.key("ess_mean").value(res.updates ? ess_sum / static_cast<double>(res.updates) : 1.0);
-  j.key("ess_min").value(ess_min);
-  j.key("best_particle").value(res.best);
-  j.key("best_weight").value(std::exp(res.best_log_weight));
-  j.key("termination").value(to_string(res.termination));
-  j.key("message").value(res.message);
+  write_rbpf_counts(j, res);
   j.key("final_pose").begin_object();
   j.key("x").value(last.x()).key("y").value(last.y()).key("phi").value(last.phi()).end_object();
   j.key("map_cells").begin_object();
@@ -160,16 +122,13 @@ std::string summary_json(const RbpfSlamCliOptions& o, const std::string& config,
     j.key("compared_cells").value(ref->agreement.compared);
     j.key("agreement").value(ref->agreement.agreement());
     j.key("occupied_cells").value(ref->agreement.occupied);
-    j.key("wall_agreement").value(ref->agreement.wall_agreement()).end_object();
+    j.key("wall_agreement").value(ref->agreement.wall_agreement());
+    j.key("occupied_known_cells").value(ref->agreement.occupied_known);
+    j.key("known_wall_agreement").value(ref->agreement.known_wall_agreement()).end_object();
   } else {
     j.null();
   }
-  j.key("ignored_keys").begin_array();
-  for (const auto& k : cfg.ignored_keys) {
-    j.begin_object().key("section").value(k.section).key("key").value(k.key);
-    j.key("reason").value(k.reason).end_object();
-  }
-  j.end_array();
+  write_ignored_keys(j, cfg);
   j.key("files").value(w.files);
   write_issues(j, issues);
   j.end_object();
@@ -196,9 +155,10 @@ void print_text(const std::string& config, const std::string& rawlog, const Rbpf
              res.read_seconds, total);
   if (ref) {
     fmt::print("  reference {}: {:.2f} % of {} cells known in both agree; {:.2f} % of {} occupied "
-               "cells have a reference wall within 1 cell\n",
+               "cells have a reference wall within 1 cell ({:.2f} % of the {} the reference saw)\n",
                printable(ref->file), 100.0 * ref->agreement.agreement(), ref->agreement.compared,
-               100.0 * ref->agreement.wall_agreement(), ref->agreement.occupied);
+               100.0 * ref->agreement.wall_agreement(), ref->agreement.occupied,
+               100.0 * ref->agreement.known_wall_agreement(), ref->agreement.occupied_known);
   }
   if (!cfg.ignored_keys.empty()) {
     fmt::print("  config keys without effect: {}\n", cfg.ignored_keys.size());
@@ -225,11 +185,19 @@ void run(const RbpfSlamCliOptions& o) {
   ro.num_threads = resolve_thread_count(o.threads, "--threads");
   ro.max_steps = o.max_steps;
   ro.particles = o.particles;
-
-  const fs::path dir(o.out_dir);
-  if (fs::exists(dir) && !fs::is_directory(dir)) {
-    throw IoError(o.out_dir, "the output folder (-o) exists and is not a folder");
+  if (cfg.map == RbpfMapKind::Beacons) {
+    if (!o.reference.empty()) {
+      throw InvalidArgument("--reference compares occupancy grids; " + printable(o.config) +
+                            " maps beacons (use --ground-truth)");
+    }
+    run_ro_slam_command(o, cfg, rawlog, std::move(ro), total);
+    return;
   }
+  if (!o.truth.empty()) {
+    throw InvalidArgument("--ground-truth takes beacon positions; " + printable(o.config) +
+                          " maps an occupancy grid (use --reference)");
+  }
+  const fs::path dir = output_folder(o.out_dir);
   std::vector<fs::path> inputs{fs::path(o.config), fs::path(rawlog)};
   if (!o.reference.empty()) {
     check_regular_input(o.reference, "reference map");
@@ -239,55 +207,44 @@ void run(const RbpfSlamCliOptions& o) {
                                       dir / "map.png",     dir / "map.yaml",     dir / "picture.png",
                                       dir / "summary.json"};
   check_outputs_distinct(inputs, outputs);
-
-  std::optional<Progress> progress;
-  if (o.progress) progress.emplace(std::nullopt, "rbpf-slam " + printable(rawlog), std::cerr);
-  std::uint64_t steps_done = 0;
-  ro.on_step = [&](const RbpfSlamStep&) {
-    ++steps_done;
-    if (progress) progress->advance();
-  };
-  RbpfSlamResult res;
-  try {
-    res = run_rbpf_slam(cfg, rawlog, ro);
-  } catch (const Interrupted&) {
-    if (progress) progress->finish();
-    fmt::print(stderr, "rove: interrupted after {} steps; nothing written to {}\n", steps_done,
-               printable(o.out_dir));
-    throw;
-  }
-  if (progress) progress->finish();
-
-  std::vector<Issue> issues;
-  for (const auto& i : res.issues) issues.push_back({i.code, i.message});
+  const RbpfSlamResult res = run_with_progress(
+      o.progress, "rbpf-slam " + printable(rawlog), o.out_dir, [&](const std::function<void()>& step) {
+        ro.on_step = [&](std::uint64_t) { step(); };
+        return run_rbpf_slam(cfg, rawlog, ro);
+      });
+  const std::vector<Issue> issues = to_issues(res.issues);
   std::optional<Reference> ref;
   if (!o.reference.empty()) ref = Reference{o.reference, grid_agreement(res.map, load_ros_map(o.reference).grid)};
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw IoError(o.out_dir, "cannot create the output folder: " + ec.message());
+  create_output_folder(dir);
   Written w = write_outputs(dir, res);
-  const fs::path summary_path = dir / "summary.json";
-  w.files.push_back(summary_path.string());
-  const std::string summary = summary_json(o, o.config, rawlog, cfg, res, ref, issues, w, total.elapsed());
-  write_text_file_atomically(summary_path, summary);
-  if (o.json) {
-    fmt::print("{}", summary);
-  } else {
-    print_text(o.config, rawlog, cfg, res, ref, issues, w, o.out_dir, total.elapsed());
-  }
-  finish(issues);
+  publish_summary(
+      dir, w.files, o.json,
+      [&] { return summary_json(o, o.config, rawlog, cfg, res, ref, issues, w, total.elapsed()); },
+      [&] { print_text(o.config, rawlog, cfg, res, ref, issues, w, o.out_dir, total.elapsed()); },
+      issues);
 }
 
 }  // namespace
+
+void write_ignored_keys(JsonWriter& j, const RbpfSlamConfig& cfg) {
+  j.key("ignored_keys").begin_array();
+  for (const auto& k : cfg.ignored_keys) {
+    j.begin_object().key("section").value(k.section).key("key").value(k.key);
+    j.key("reason").value(k.reason).end_object();
+  }
+  j.end_array();
+}
 
 void add_rbpf_slam_command(CLI::App& app) {
   auto o = std::make_shared<RbpfSlamCliOptions>();
   auto* cmd = app.add_subcommand(
       "rbpf-slam",
-      "Build an occupancy grid and the robot's path with a Rao-Blackwellized particle filter "
-      "(MRPT's rbpf-slam), from an MRPT rbpf-slam config and a rawlog");
+      "Build an occupancy grid (or a map of range-only beacons) and the robot's path with a "
+      "Rao-Blackwellized particle filter (MRPT's rbpf-slam), from an MRPT rbpf-slam config and a "
+      "rawlog");
   cmd->add_option("config", o->config,
-                  "MRPT rbpf-slam configuration file (.ini), e.g. gridmapping_optimal_sampling.ini")
+                  "MRPT rbpf-slam configuration file (.ini), e.g. gridmapping_optimal_sampling.ini "
+                  "or RO-SLAM_simulatedData_MC.ini")
       ->required();
   cmd->add_option("rawlog", o->rawlog, "rawlog or CARMEN log (default: the config's rawlog_file)");
   cmd->add_option("-o,--output", o->out_dir, "output folder")->capture_default_str();
@@ -304,6 +261,9 @@ void add_rbpf_slam_command(CLI::App& app) {
   cmd->add_option("--reference", o->reference,
                   "a ROS map.yaml of the same data (e.g. rove icp-slam's map.yaml): report the cell "
                   "agreement of the map with it");
+  cmd->add_option("--ground-truth", o->truth,
+                  "with a beacon map: MRPT's beacon ground-truth file (ID X Y Z per line, e.g. "
+                  "RO-SLAM_demo_ground_truth.txt): report each beacon's error and their RMSE");
   cmd->add_flag("--json", o->json, "print the summary as JSON");
   cmd->add_flag("!--no-progress", o->progress, "do not report progress on stderr");
   cmd->callback([o] { run(*o); });

@@ -45,3 +45,25 @@ add_test(NAME cli.rbpf_slam_icp_proposal COMMAND ${CMAKE_COMMAND}
   -DEXIT=3 "-DREGEX=2 particles, pfOptimalProposal proposal.*ess-collapse: in [0-9]+ of [0-9]+ updates"
   -DFILE=${rove_rbpf_dir}/icp/summary.json "-DFILE_REGEX=\"termination\": \"completed-with-issues\""
   -P ${rove_rbpf_expect})
+
+# Range-only SLAM: MRPT's RO-SLAM configs (beacons as Monte-Carlo samples and
+# as sums of Gaussians) on its simulated demo, against its beacon ground truth.
+set(rove_ro_rawlog ${PROJECT_SOURCE_DIR}/data/mrpt/RO-SLAM_demo.rawlog)
+set(rove_ro_truth ${PROJECT_SOURCE_DIR}/data/mrpt/RO-SLAM_demo_ground_truth.txt)
+add_test(NAME cli.rbpf_slam_ro_mc COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> rbpf-slam --no-progress ${PROJECT_SOURCE_DIR}/data/mrpt/RO-SLAM_simulatedData_MC.ini ${rove_ro_rawlog} --ground-truth ${rove_ro_truth} --seed 1 -o ${rove_rbpf_dir}/ro_mc"
+  -DEXIT=0 "-DREGEX=99 steps \\(99 with beacon ranges\\).*10 particles, pfStandardProposal, beacons as Monte-Carlo samples, 98 updates.*15 beacons.*beacon RMSE 0\\.0[01][0-9]* m over 15 beacons \\(0 missing, 0 unknown\\).*issues: none"
+  -DFILE=${rove_rbpf_dir}/ro_mc/beacons.csv "-DFILE_REGEX=id,kind,x,y,z,cov_xx.*\n14,gaussian,"
+  -P ${rove_rbpf_expect})
+add_test(NAME cli.rbpf_slam_ro_sog_json COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> rbpf-slam --no-progress --json ${PROJECT_SOURCE_DIR}/data/mrpt/RO-SLAM_simulatedData_SOG.ini ${rove_ro_rawlog} --ground-truth ${rove_ro_truth} -o ${rove_rbpf_dir}/ro_sog"
+  -DEXIT=0 "-DREGEX=\"map\": \"beacons\",.*\"beacon_init\": \"sog\",.*\"beacons\": \\[.*\"covariance\": \\[.*\"beacon_rmse\": 0\\.0[01].*path.tum.*beacons.csv.*picture.png.*summary.json.*\"issues\": \\[\\]"
+  -P ${rove_rbpf_expect})
+# A grid's --reference with a beacon map, and a beacon truth with a grid: errors.
+add_test(NAME cli.rbpf_slam_ro_reference_refused COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> rbpf-slam --no-progress ${PROJECT_SOURCE_DIR}/data/mrpt/RO-SLAM_simulatedData_MC.ini ${rove_ro_rawlog} --reference ${rove_rbpf_ini} -o ${rove_rbpf_dir}/ro_ref"
+  -DEXIT=1 "-DREGEX=--reference compares occupancy grids" -DABSENT=${rove_rbpf_dir}/ro_ref/summary.json
+  -P ${rove_rbpf_expect})
+add_test(NAME cli.rbpf_slam_grid_truth_refused COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> rbpf-slam --no-progress ${rove_rbpf_ini} ${rove_rbpf_rawlog} --ground-truth ${rove_ro_truth} -o ${rove_rbpf_dir}/grid_truth"
+  -DEXIT=1 "-DREGEX=--ground-truth takes beacon positions" -P ${rove_rbpf_expect})

@@ -299,19 +299,16 @@ TEST(RawlogReader, SenaScansEqualRawlogEditExport) {
   }
 }
 
-TEST(RawlogReader, EveryTruncationOfTheFirstKilobytesIsAParseError) {
-  const std::vector<std::byte> all = decompressed(kSena);
-  ASSERT_EQ(all.size(), 498881u);
-  constexpr std::size_t kPrefix = 6000;
-  // Entry boundaries inside the prefix: cutting there leaves a valid,
-  // shorter rawlog.
+// Every cut of the first `prefix` bytes of `all` (a rawlog) is a
+// ParseError, but at entry boundaries, where it leaves a shorter rawlog.
+void expect_truncations_are_parse_errors(const std::vector<std::byte>& all, std::size_t prefix) {
   std::set<std::uint64_t> boundaries{0};
   {
     RawlogReader reader(std::make_unique<MemoryInStream>(std::span<const std::byte>(all)));
-    while (reader.next() && reader.offset() <= kPrefix) boundaries.insert(reader.offset());
+    while (reader.next() && reader.offset() <= prefix) boundaries.insert(reader.offset());
   }
   ASSERT_GE(boundaries.size(), 3u);
-  for (std::size_t cut = 0; cut <= kPrefix; ++cut) {
+  for (std::size_t cut = 0; cut <= prefix; ++cut) {
     RawlogReader reader(std::make_unique<MemoryInStream>(
         std::span<const std::byte>(all.data(), cut), "truncated"));
     if (boundaries.count(cut) != 0) {
@@ -320,6 +317,39 @@ TEST(RawlogReader, EveryTruncationOfTheFirstKilobytesIsAParseError) {
       EXPECT_THROW(while (reader.next()) {}, ParseError) << "cut " << cut;
     }
   }
+}
+
+TEST(RawlogReader, EveryTruncationOfTheFirstKilobytesIsAParseError) {
+  const std::vector<std::byte> all = decompressed(kSena);
+  ASSERT_EQ(all.size(), 498881u);
+  expect_truncations_are_parse_errors(all, 6000);
+}
+
+// CObservationBeaconRanges: every cut of the first frames (beacon ranges,
+// then an action) is a ParseError, and every single corrupted byte of them
+// reads or fails with a ParseError, never anything else (ASan watches).
+TEST(RawlogReader, RoSlamDemoTruncatedOrCorruptedBeaconRanges) {
+  const std::vector<std::byte> all = decompressed(std::string(ROVE_SOURCE_DIR) + "/data/mrpt/RO-SLAM_demo.rawlog");
+  constexpr std::size_t kPrefix = 2000;
+  ASSERT_GT(all.size(), kPrefix);
+  expect_truncations_are_parse_errors(all, kPrefix);
+  std::size_t rejected = 0;
+  for (std::size_t at = 0; at < kPrefix; ++at) {
+    for (const std::byte flip : {std::byte{0x01}, std::byte{0x80}, std::byte{0xff}}) {
+      std::vector<std::byte> bad(all.begin(), all.begin() + kPrefix);
+      bad[at] ^= flip;
+      RawlogReader reader(std::make_unique<MemoryInStream>(std::span<const std::byte>(bad), "corrupted"));
+      try {
+        while (reader.next()) {
+        }
+      } catch (const ParseError&) {
+        ++rejected;
+      }
+    }
+  }
+  // The prefix ends inside an entry: every variant that reaches the end
+  // fails there, so all of them are rejected with a ParseError.
+  EXPECT_EQ(rejected, 3 * kPrefix);
 }
 
 TEST(RawlogReader, MissingFileIsAnIoError) {

@@ -20,7 +20,8 @@ GridAgreement grid_agreement(const OccupancyGrid& grid, const OccupancyGrid& ref
       const double wx = grid.idx_to_x(x), wy = grid.idx_to_y(y);
       const int rx = reference.x_to_idx_clamped(wx), ry = reference.y_to_idx_clamped(wy);
       const double q = reference.free_probability(rx, ry);
-      if (q <= lo || q >= hi) {
+      const bool known = q <= lo || q >= hi;
+      if (known) {
         ++r.compared;
         r.agreeing += (p < 0.5) == (q < 0.5) ? 1 : 0;
       }
@@ -33,6 +34,8 @@ GridAgreement grid_agreement(const OccupancyGrid& grid, const OccupancyGrid& ref
         }
       }
       r.occupied_matched += matched ? 1 : 0;
+      r.occupied_known += known ? 1 : 0;
+      r.occupied_known_matched += known && matched ? 1 : 0;
     }
   }
   return r;

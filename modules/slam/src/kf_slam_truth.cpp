@@ -13,12 +13,9 @@
 #include "rove/poses/lie_conversion.h"
 
 namespace rove {
-namespace {
 
-// Rows of whitespace-separated numbers; blank lines and lines starting with
-// '%' or '#' skipped (MRPT's text matrices). Each row has its line number.
-std::vector<std::pair<std::size_t, std::vector<double>>> read_rows(const std::string& path,
-                                                                   const std::string& key) {
+std::vector<std::pair<std::size_t, std::vector<double>>> detail::read_rows(const std::string& path,
+                                                                           const std::string& key) {
   const std::string text = read_input_file(path, kMaxTextInputBytes, "ground truth file");
   std::istringstream in(text);
   std::string line;
@@ -44,8 +41,6 @@ std::vector<std::pair<std::size_t, std::vector<double>>> read_rows(const std::st
   return rows;
 }
 
-}  // namespace
-
 std::optional<std::int64_t> KfSlamTruth::reading_truth(
     const LandmarkMeasurement& m, const Pose3& T_rs,
     const std::optional<SE3d>& T_world_robot) const {
@@ -67,7 +62,7 @@ KfSlamTruth load_kf_slam_truth(const KfSlamConfig& config, double gate) {
   t.gate = gate;
   if (!config.ground_truth_file.empty()) {
     const std::string path = config.resolve(config.ground_truth_file, "ground_truth_file");
-    for (const auto& [line, v] : read_rows(path, "ground_truth_file")) {
+    for (const auto& [line, v] : detail::read_rows(path, "ground_truth_file")) {
       if (v.size() < 7 || v[6] != std::floor(v[6])) {
         throw ParseError({path, line, std::nullopt, "ground_truth_file"},
                          fmt::format("expected rows of at least 7 numbers, x y z ... with the "
@@ -84,7 +79,7 @@ KfSlamTruth load_kf_slam_truth(const KfSlamConfig& config, double gate) {
   if (!config.ground_truth_file_robot.empty()) {
     const std::string path =
         config.resolve(config.ground_truth_file_robot, "ground_truth_file_robot");
-    for (const auto& [line, v] : read_rows(path, "ground_truth_file_robot")) {
+    for (const auto& [line, v] : detail::read_rows(path, "ground_truth_file_robot")) {
       if (v.size() == 6) {
         t.path.push_back(to_se3(Pose3(v[0], v[1], v[2], v[3], v[4], v[5])));
       } else if (v.size() == 3) {

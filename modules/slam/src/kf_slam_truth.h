@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -16,6 +18,15 @@
 #include "rove/slam/kf_slam_run.h"
 
 namespace rove {
+
+namespace detail {
+// Rows of whitespace-separated numbers of a ground-truth file; blank lines
+// and lines starting with '%' or '#' skipped (MRPT's text matrices). Each
+// row has its line number. ParseError (path, line, `key`) for a value that
+// is not a finite number.
+std::vector<std::pair<std::size_t, std::vector<double>>> read_rows(const std::string& path,
+                                                                   const std::string& key);
+}  // namespace detail
 
 struct KfSlamTruth {
   // Landmark ID → true position (world, m).

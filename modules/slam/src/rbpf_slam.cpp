@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <map>
 #include <numbers>
 #include <utility>
 
@@ -13,60 +12,23 @@
 #include "rove/bayes/random.h"
 #include "rove/core/check.h"
 #include "rove/registration/icp_target_2d.h"
+#include "rbpf_common.h"
 
 namespace rove {
 namespace {
 
-using Vec3 = Eigen::Vector3d;
-using Mat3 = Eigen::Matrix3d;
-
-double wrap(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
-
-/// x ⊕ (Δx, Δy, Δφ): the pose reached by an increment in x's frame.
-SE2d apply(const SE2d& x, const Vec3& v) { return x * SE2d(v.x(), v.y(), v.z()); }
+using detail::apply_increment;
+using detail::diag_sq;
+using detail::Gaussian3;
+using detail::Mat3;
+using detail::Vec3;
+using detail::wrap_angle;
 
 /// log(exp(a) + exp(b)) without overflow.
 double log_add(double a, double b) {
   if (a < b) std::swap(a, b);
   if (b == -std::numeric_limits<double>::infinity()) return a;
   return a + std::log1p(std::exp(b - a));
-}
-
-/// A Gaussian over pose increments (Δx, Δy, Δφ), the angle difference wrapped.
-struct Gaussian3 {
-  Vec3 mean = Vec3::Zero();
-  Mat3 lower = Mat3::Identity();  // Cholesky factor of the covariance
-  Mat3 information = Mat3::Identity();
-  double log_norm = 0.0;  // −½ log det(2πΣ)
-
-  static Gaussian3 of(const Vec3& mean, const Mat3& covariance) {
-    Gaussian3 g;
-    g.mean = mean;
-    const Eigen::LLT<Mat3> llt(covariance);
-    ROVE_CHECK_MSG(llt.info() == Eigen::Success, "a covariance is not positive definite");
-    g.lower = llt.matrixL();
-    g.information = llt.solve(Mat3::Identity());
-    const double log_det = 2.0 * g.lower.diagonal().array().log().sum();
-    g.log_norm = -0.5 * (log_det + 3.0 * std::log(2.0 * std::numbers::pi));
-    return g;
-  }
-  double log_density(const Vec3& v) const {
-    Vec3 d = v - mean;
-    d.z() = wrap(d.z());
-    return log_norm - 0.5 * d.dot(information * d);
-  }
-  Vec3 sample(Rng& rng) const {
-    const auto a = rng.normal_pair();
-    const Vec3 z(a[0], a[1], rng.normal());
-    return mean + lower * z;
-  }
-};
-
-/// The diagonal covariance of standard deviations s.
-Mat3 diag_sq(const Vec3& s) {
-  Mat3 m = Mat3::Zero();
-  m.diagonal() = s.cwiseAbs2();
-  return m;
 }
 
 /// What every particle's proposal shares in one update.
@@ -113,11 +75,37 @@ Vec3 climb(const F& f, Vec3 start, Vec3 step) {
   return start;
 }
 
+/// The Gaussian of weighted increments v (log-weights lw, log_sum their
+/// log-sum-exp), angles taken about `mode` (Grisetti 2007, eq. 18–19), its
+/// covariance plus `floor` (invertible even when one sample holds all the
+/// weight).
+Gaussian3 weighted_gaussian(const std::vector<Vec3>& v, const std::vector<double>& lw, double log_sum,
+                            const Vec3& mode, const Mat3& floor) {
+  const std::size_t k = v.size();
+  Vec3 mu = Vec3::Zero();
+  std::vector<double> w(k);
+  for (std::size_t j = 0; j < k; ++j) {
+    w[j] = std::exp(lw[j] - log_sum);
+    Vec3 d = v[j] - mode;
+    d.z() = wrap_angle(d.z());
+    mu += w[j] * d;
+  }
+  Mat3 cov = Mat3::Zero();
+  for (std::size_t j = 0; j < k; ++j) {
+    Vec3 d = v[j] - mode;
+    d.z() = wrap_angle(d.z());
+    d -= mu;
+    cov += w[j] * d * d.transpose();
+  }
+  return Gaussian3::of(mode + mu, cov + floor);
+}
+
 Proposal propose_optimal(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
   const auto target = [&](const Vec3& v) {
-    return c.field.log_likelihood(p.map, c.points, apply(p.pose, v)) + c.prior.log_density(v);
+    return c.field.log_likelihood(p.map, c.points, apply_increment(p.pose, v)) + c.prior.log_density(v);
   };
   const Vec3 mode = climb(target, c.prior.mean, 2.0 * c.match_std);
+  const Mat3 floor = diag_sq(0.25 * c.match_std);
   const Gaussian3 around = Gaussian3::of(mode, diag_sq(c.match_std));
   // Defensive importance sampling: half around the mode, half from the
   // prior, in rounds of kRound (equal halves, so the mixture density is
@@ -139,39 +127,18 @@ Proposal propose_optimal(const RbpfParticle& p, const UpdateContext& c, Rng& rng
     }
     if (summarize_log_weights(lw).effective_sample_size >= kTargetEss) break;
   }
-  const std::size_t k = v.size();
   Proposal out;
   // η = ∫ p(z | x, m) p(x | x', u) dx ≈ mean of the importance weights
   // (Grisetti 2007, eq. 20).
   const double log_sum = log_sum_exp(lw);
-  out.log_factor = log_sum - std::log(static_cast<double>(k));
-  // The Gaussian of the weighted samples (eq. 18–19), angles about the mode.
-  Vec3 mu = Vec3::Zero();
-  std::vector<double> w(k);
-  for (std::size_t j = 0; j < k; ++j) {
-    w[j] = std::exp(lw[j] - log_sum);
-    Vec3 d = v[j] - mode;
-    d.z() = wrap(d.z());
-    mu += w[j] * d;
-  }
-  Mat3 cov = Mat3::Zero();
-  for (std::size_t j = 0; j < k; ++j) {
-    Vec3 d = v[j] - mode;
-    d.z() = wrap(d.z());
-    d -= mu;
-    cov += w[j] * d * d.transpose();
-  }
-  // A floor of a quarter of the matcher's spread keeps Σ invertible when
-  // one sample holds all the weight.
-  cov += diag_sq(0.25 * c.match_std);
-  const Gaussian3 proposal = Gaussian3::of(mode + mu, cov);
-  out.pose = apply(p.pose, proposal.sample(rng));
+  out.log_factor = log_sum - std::log(static_cast<double>(v.size()));
+  out.pose = apply_increment(p.pose, weighted_gaussian(v, lw, log_sum, mode, floor).sample(rng));
   return out;
 }
 
 Proposal propose_standard(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
   Proposal out;
-  out.pose = apply(p.pose, c.prior.sample(rng));
+  out.pose = apply_increment(p.pose, c.prior.sample(rng));
   out.log_factor = c.field.log_likelihood(p.map, c.points, out.pose);
   return out;
 }
@@ -179,7 +146,7 @@ Proposal propose_standard(const RbpfParticle& p, const UpdateContext& c, Rng& rn
 // The ICP alignment of the scan against the particle's occupied cells near
 // the prediction; the new pose drawn from its Gaussian when good enough.
 Proposal propose_icp(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
-  const SE2d predicted = apply(p.pose, c.prior.mean);
+  const SE2d predicted = apply_increment(p.pose, c.prior.mean);
   const Eigen::Vector2d& t = predicted.translation();
   const double r = c.reach + 1.0;
   std::vector<Eigen::Vector2d> cells = p.map.occupied_points(t.x() - r, t.x() + r, t.y() - r, t.y() + r);
@@ -200,16 +167,11 @@ Proposal propose_icp(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
     }
   }
   if (!accepted) {
-    out.pose = apply(p.pose, c.prior.sample(rng));
+    out.pose = apply_increment(p.pose, c.prior.sample(rng));
     out.fallback = true;
   }
   out.log_factor = c.field.log_likelihood(p.map, c.points, out.pose);
   return out;
-}
-
-std::shared_ptr<const RbpfPathNode> make_node(const SE2d& pose, std::uint64_t step,
-                                              std::shared_ptr<const RbpfPathNode> previous) {
-  return std::make_shared<RbpfPathNode>(pose, step, std::move(previous));
 }
 
 /// scan.check(), and no NaN range on a ray flagged valid: malformed data
@@ -301,21 +263,14 @@ std::size_t RbpfSlam::distinct_tiles() const {
 std::size_t RbpfSlam::insert(const RangeScan2D& scan, std::uint64_t step) {
   check_scan(scan);
   for (auto& p : particles_) {
-    p.path = make_node(p.pose, step, p.path);
+    p.path = detail::make_node(p.pose, step, p.path);
   }
   return insert_all(scan);
 }
 
 std::size_t RbpfSlam::insert_all(const RangeScan2D& scan) {
-  // Particles with the same path node are copies of one particle (made by
-  // resampling): the same pose and map. Each group inserts once.
-  std::vector<std::vector<std::size_t>> groups;
-  std::map<const RbpfPathNode*, std::size_t> group_of;
-  for (std::size_t i = 0; i < particles_.size(); ++i) {
-    const auto [it, fresh] = group_of.try_emplace(particles_[i].path.get(), groups.size());
-    if (fresh) groups.emplace_back();
-    groups[it->second].push_back(i);
-  }
+  // Copies of one particle (made by resampling) insert once.
+  const std::vector<std::vector<std::size_t>> groups = detail::copy_groups(particles_);
   impl_->for_each(groups.size(), [&](std::size_t g) {
     RbpfParticle& first = particles_[groups[g].front()];
     insert_scan(first.map, scan, first.pose, options_.insertion);
@@ -331,31 +286,20 @@ std::size_t RbpfSlam::insert_all(const RangeScan2D& scan) {
 RbpfUpdateResult RbpfSlam::update(const OdometryIncrement& motion, const RangeScan2D& scan,
                                   std::uint64_t step, bool insert_scan) {
   check_scan(scan);
-  const Eigen::Vector2d& dt = motion.mean.translation();
-  ROVE_CHECK_MSG(dt.allFinite() && std::isfinite(motion.mean.angle()) && motion.covariance.allFinite(),
-                 "the odometry increment is not finite");
-  ROVE_CHECK_MSG((motion.covariance - motion.covariance.transpose()).cwiseAbs().maxCoeff() <=
-                     1e-9 * (1.0 + motion.covariance.cwiseAbs().maxCoeff()),
-                 "the odometry covariance is not symmetric");
-  ++updates_;
-  const std::uint64_t seed = derive_seed(options_.seed, updates_);
   const TiledScanPoints points = impl_->field.prepare(scan);
-  const std::vector<Eigen::Vector2d> scan_points =
-      options_.proposal == RbpfProposal::Icp ? scan.points_2d() : std::vector<Eigen::Vector2d>{};
   const double res = options_.resolution;
   const double lever = lever_arm(points);
   const Vec3 match_std(res, res, res / lever);
   // The motion prior, floored at a quarter of the matcher's spread so that
   // a zero-covariance odometry still gives a density.
-  const Mat3 prior_cov = 0.5 * (motion.covariance + motion.covariance.transpose()) +
-                         diag_sq(0.25 * match_std);
-  ROVE_CHECK_MSG(Eigen::LLT<Mat3>(prior_cov).info() == Eigen::Success,
-                 "the odometry covariance is not positive semidefinite");
+  const Gaussian3 prior = detail::motion_prior(motion, diag_sq(0.25 * match_std));
+  ++updates_;
+  const std::uint64_t seed = derive_seed(options_.seed, updates_);
+  const std::vector<Eigen::Vector2d> scan_points =
+      options_.proposal == RbpfProposal::Icp ? scan.points_2d() : std::vector<Eigen::Vector2d>{};
   double reach = 0.0;
   for (std::size_t j = 0; j < points.xs.size(); ++j) reach = std::max(reach, std::hypot(points.xs[j], points.ys[j]));
-  const UpdateContext ctx{options_, impl_->field, points, scan_points,
-                          Gaussian3::of(Vec3(dt.x(), dt.y(), motion.mean.angle()), prior_cov),
-                          match_std, reach};
+  const UpdateContext ctx{options_, impl_->field, points, scan_points, prior, match_std, reach};
 
   const std::size_t n = particles_.size();
   std::vector<Proposal> proposals(n);
@@ -368,27 +312,20 @@ RbpfUpdateResult RbpfSlam::update(const OdometryIncrement& motion, const RangeSc
     }
   });
   RbpfUpdateResult result;
+  std::vector<SE2d> poses(n);
+  std::vector<double> factors(n);
   for (std::size_t i = 0; i < n; ++i) {
-    ROVE_CHECK_MSG(!std::isnan(proposals[i].log_factor), "particle {} got a NaN weight", i);
-    RbpfParticle& p = particles_[i];
-    p.pose = proposals[i].pose;
-    p.path = make_node(p.pose, step, p.path);
-    log_weights_[i] += options_.pow_factor * proposals[i].log_factor;
+    poses[i] = proposals[i].pose;
+    factors[i] = proposals[i].log_factor;
     result.fallbacks += proposals[i].fallback ? 1 : 0;
   }
-  const LogWeightSummary summary = summarize_log_weights(log_weights_);
-  for (double& w : log_weights_) w -= summary.log_sum;
-  result.ess = summary.normalized_ess;
-  const RbpfParticle& top = particles_[summary.max_index];
+  const detail::Reweighting w =
+      detail::reweigh(particles_, log_weights_, poses, factors, step, options_.pow_factor);
+  result.ess = w.ess;
+  const RbpfParticle& top = particles_[w.best];
   result.fit = top.map.empty() ? 1.0 : impl_->field.fit(top.map, points, top.pose);
   if (result.ess < options_.beta) {
-    Rng rng = Rng::stream(seed, ~std::uint64_t{0});
-    const std::vector<std::size_t> idx = resample_indices(options_.resampling, log_weights_, n, rng);
-    std::vector<RbpfParticle> next;
-    next.reserve(n);
-    for (const std::size_t i : idx) next.push_back(particles_[i]);
-    particles_ = std::move(next);
-    log_weights_.assign(n, -std::log(static_cast<double>(n)));
+    detail::resample(particles_, log_weights_, options_.resampling, seed);
     result.resampled = true;
   }
   if (insert_scan) result.insertions = insert_all(scan);

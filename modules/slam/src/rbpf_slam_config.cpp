@@ -7,6 +7,7 @@
 
 #include "rove/bayes/particle_filter_options.h"
 #include "rove/core/error.h"
+#include "rove/maps/beacon_map.h"
 #include "rove/maps/metric_map_occupancy_grid.h"
 #include "rove/maps/multi_metric_map.h"
 #include "rove/slam/config_path.h"
@@ -24,26 +25,53 @@ constexpr std::string_view kPfKeys[] = {
     "pfAuxFilterOptimal_MaximumSearchSamples", "powFactor", "max_loglikelihood_dyn_range",
     "pfAuxFilterStandard_FirstStageWeightsMonteCarlo", "pfAuxFilterOptimal_MLE"};
 
-// The one occupancy grid of the map declaration; ConfigError otherwise.
-const OccupancyGridMetricMap& the_grid(const MultiMetricMap& map, const ConfigSection& sec) {
-  const OccupancyGridMetricMap* grid = nullptr;
+// The one map of the declaration: an occupancy grid or a beacon map;
+// ConfigError otherwise.
+const MetricMap& the_map(const MultiMetricMap& map, const ConfigSection& sec) {
+  const MetricMap* only = nullptr;
   for (const auto& e : map.entries()) {
-    const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get());
-    if (g == nullptr) {
+    const bool grid = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get()) != nullptr;
+    if (!grid && dynamic_cast<const BeaconMap*>(e.map.get()) == nullptr) {
       sec.fail(std::string(e.map->kind()) + "_count",
-               fmt::format("rove's RBPF maps one occupancy grid per particle; a {} map is not "
-                           "supported (set its count to 0)",
+               fmt::format("rove's RBPF maps one occupancy grid or one beacon map per particle; a "
+                           "{} map is not supported (set its count to 0)",
                            e.map->kind()));
     }
-    if (grid != nullptr) sec.fail("occupancyGrid_count", "exactly one occupancy grid is supported");
-    grid = g;
+    if (only != nullptr) {
+      sec.fail(std::string(e.map->kind()) + "_count",
+               "exactly one map (one occupancy grid or one beacon map) is supported");
+    }
+    only = e.map.get();
   }
-  if (grid == nullptr) {
+  if (only == nullptr) {
     sec.fail("occupancyGrid_count",
-             "no occupancy grid is declared: rove's RBPF builds one grid per particle (set "
-             "occupancyGrid_count = 1)");
+             "no map is declared: rove's RBPF builds one occupancy grid (occupancyGrid_count = 1) "
+             "or one beacon map (beaconMap_count = 1) per particle");
   }
-  return *grid;
+  return *only;
+}
+
+// Range-only SLAM: MRPT's RO-SLAM configs filter with pfStandardProposal.
+void read_beacons(const BeaconMap& map, const ParticleFilterOptions& pf, RbpfSlamConfig& cfg,
+                  const ConfigSection& sec) {
+  if (pf.algorithm != ParticleFilterAlgorithm::StandardProposal) {
+    sec.fail("PF_algorithm",
+             fmt::format("{} is not supported with a beacon map: rove's range-only SLAM samples "
+                         "the motion model and weighs by the ranges (0, pfStandardProposal)",
+                         static_cast<int>(pf.algorithm)));
+  }
+  RoSlamOptions& b = cfg.beacons;
+  b.particles = pf.sample_size;
+  b.resampling = pf.resampling_method;
+  b.beta = pf.beta;
+  b.pow_factor = pf.pow_factor;
+  b.insertion = map.insert_options;
+  b.likelihood = map.likelihood_options;
+  cfg.map = RbpfMapKind::Beacons;
+  for (const char* key : {"pfAuxFilterOptimal_MaximumSearchSamples", "pfOptimalProposal_mapSelection",
+                          "ICPGlobalAlign_MinQuality"}) {
+    if (sec.has(key)) cfg.ignored_keys.push_back({kSec, key, "not used by range-only SLAM (PF_algorithm = 0)"});
+  }
 }
 
 // The proposal of PF_algorithm / pfOptimalProposal_mapSelection.
@@ -111,7 +139,9 @@ RbpfSlamConfig load_rbpf_slam_config(const IniFile& ini) {
   const int selection = sec.get<int>("pfOptimalProposal_mapSelection", 0);
   sec.ignore({"logOutput_dir", "LOG_FREQUENCY", "GENERATE_LOG_JOINT_H", "GENERATE_LOG_INFO",
               "SAVE_MAP_IMAGES", "SAVE_3D_SCENE", "SAVE_POSE_LOG", "SAVE_ENOSE_READINGS",
-              "CAMERA_3DSCENE_FOLLOWS_ROBOT", "SHOW_PROGRESS_IN_WINDOW", "verbosity_level"},
+              "CAMERA_3DSCENE_FOLLOWS_ROBOT", "SHOW_PROGRESS_IN_WINDOW",
+              "SHOW_PROGRESS_IN_WINDOW_DELAY_MS", "PROGRESS_WINDOW_WIDTH", "PROGRESS_WINDOW_HEIGHT",
+              "verbosity_level"},
              "MRPT rbpf-slam GUI/logging switch; rove writes its outputs to -o DIR");
   sec.ignore({"max_loglikelihood_dyn_range", "pfAuxFilterOptimal_MLE",
               "pfAuxFilterStandard_FirstStageWeightsMonteCarlo"},
@@ -132,6 +162,15 @@ RbpfSlamConfig load_rbpf_slam_config(const IniFile& ini) {
   for (const std::string_view key : kPfKeys) (void)sec.get<std::string>(key, "");
   o.icp = Icp2dOptions::from_config(sec);
   const ParticleFilterOptions pf = ParticleFilterOptions::from_config(sec);
+  if (map.find("beaconMap") != nullptr) {
+    read_beacons(dynamic_cast<const BeaconMap&>(the_map(map, sec)), pf, cfg, sec);
+    try {
+      cfg.beacons.check();
+    } catch (const InvalidArgument& e) {
+      throw ConfigError(ini.source(), kSec, "", e.message());
+    }
+    return cfg;
+  }
   o.proposal = proposal_of(pf, selection, sec);
   if (o.proposal != RbpfProposal::Icp) {
     for (const char* key : {"pfOptimalProposal_mapSelection", "ICPGlobalAlign_MinQuality"}) {
@@ -147,7 +186,7 @@ RbpfSlamConfig load_rbpf_slam_config(const IniFile& ini) {
     sec.fail("pfAuxFilterOptimal_MaximumSearchSamples",
              fmt::format("{} is below 4: too few poses to fit the proposal's Gaussian", o.search_samples));
   }
-  read_grid(the_grid(map, sec), o, ini);
+  read_grid(dynamic_cast<const OccupancyGridMetricMap&>(the_map(map, sec)), o, ini);
   try {
     o.check();
   } catch (const InvalidArgument& e) {

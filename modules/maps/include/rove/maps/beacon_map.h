@@ -145,6 +145,9 @@ class BeaconMap final : public MetricMap {
   const std::vector<Beacon>& beacons() const noexcept { return beacons_; }
   /// The beacon with identifier `id`, or nullptr.
   const Beacon* find(std::int32_t id) const noexcept;
+  /// Restarts the map's random generator (the Monte-Carlo rings of new
+  /// beacons, the jitter after resampling their samples) from `seed`.
+  void reseed(std::uint64_t seed) { rng_.seed(seed); }
   /// Adds a beacon (replacing one with the same id). Precondition
   /// (InvalidArgument): its density is not empty and finite.
   void add(Beacon beacon);

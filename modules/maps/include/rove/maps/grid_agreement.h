@@ -33,6 +33,9 @@ struct GridAgreement {
   /// Of those, cells with an occupied reference cell within
   /// wall_tolerance_cells.
   std::size_t occupied_matched = 0;
+  /// Occupied cells of `grid` whose reference cell is known (seen by the
+  /// reference: a wall there can be judged), and of those the matched ones.
+  std::size_t occupied_known = 0, occupied_known_matched = 0;
   /// agreeing / compared (1 when nothing was compared).
   double agreement() const noexcept {
     return compared ? static_cast<double>(agreeing) / static_cast<double>(compared) : 1.0;
@@ -40,6 +43,14 @@ struct GridAgreement {
   /// occupied_matched / occupied (1 when `grid` has no occupied cell).
   double wall_agreement() const noexcept {
     return occupied ? static_cast<double>(occupied_matched) / static_cast<double>(occupied) : 1.0;
+  }
+  /// occupied_known_matched / occupied_known (1 when there is none): the
+  /// walls of `grid` where the reference saw something, within the
+  /// tolerance of a reference wall. A doubled wall lowers it; walls the
+  /// reference never saw (a sparser reference) do not.
+  double known_wall_agreement() const noexcept {
+    return occupied_known ? static_cast<double>(occupied_known_matched) / static_cast<double>(occupied_known)
+                          : 1.0;
   }
 };
 

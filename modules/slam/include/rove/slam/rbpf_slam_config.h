@@ -28,8 +28,11 @@
 ///   (`ICP_algorithm`, `maxIterations`, `thresholdDist`, ...);
 /// - the multi-metric map (`occupancyGrid_count`, ... with its
 ///   `MappingApplication_occupancyGrid_00_*` sections): exactly one
-///   occupancy grid and no other map; its likelihoodMethod must be 4
-///   (lmLikelihoodField_Thrun) with LF_maxCorrsDistance under 32 cells;
+///   occupancy grid and no other map, whose likelihoodMethod must be 4
+///   (lmLikelihoodField_Thrun) with LF_maxCorrsDistance under 32 cells; or
+///   exactly one beacon map (`beaconMap_count = 1`, range-only SLAM,
+///   rove/slam/ro_slam.h, RO-SLAM_simulatedData_MC.ini / _SOG.ini) with its
+///   `_insertOpts` and `_likelihoodOpts`, filtered with PF_algorithm = 0;
 /// - MRPT's GUI and log switches (`logOutput_dir`, `SAVE_MAP_IMAGES`,
 ///   `SHOW_PROGRESS_IN_WINDOW`, `verbosity_level`, ...) are without effect:
 ///   rove writes its outputs to -o DIR.
@@ -41,13 +44,28 @@
 #include "rove/core/config_section.h"
 #include "rove/core/ini.h"
 #include "rove/slam/rbpf_slam.h"
+#include "rove/slam/ro_slam.h"
 
 namespace rove {
 
+/// What the particles of an rbpf-slam configuration map.
+enum class RbpfMapKind : std::uint8_t {
+  /// One occupancy grid per particle (grid mapping, RbpfSlam).
+  OccupancyGrid,
+  /// One beacon map per particle (range-only SLAM, RoSlam).
+  Beacons,
+};
+
 /// An rbpf-slam configuration.
 struct RbpfSlamConfig {
-  /// The filter's options (seed and threads at their defaults: the caller's).
+  /// What the particles map: selects `options` or `beacons`.
+  RbpfMapKind map = RbpfMapKind::OccupancyGrid;
+  /// The grid filter's options (seed and threads at their defaults: the
+  /// caller's); meaningful when map is OccupancyGrid.
   RbpfSlamOptions options;
+  /// The range-only filter's options (seed and threads at their defaults);
+  /// meaningful when map is Beacons.
+  RoSlamOptions beacons;
   /// (insertionLinDistance) meters. Default 1.
   double insertion_lin_distance = 1.0;
   /// (insertionAngDistance_deg) radians. Default 30°.

@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Running RBPF grid mapping (rove/slam/rbpf_slam.h) over a whole log, as
+/// Running RBPF grid mapping (rove/slam/rbpf_slam.h) over a whole log (and
+/// the options and issues range-only SLAM's run, ro_slam_run.h, shares), as
 /// MRPT's rbpf-slam application does (CMetricMapBuilderRBPF): the steps of
 /// the log (an action collection and the sensory frame after it, or one
 /// observation; rawlog_steps) move the odometry; the first 2D scan is
@@ -76,8 +77,8 @@ struct RbpfSlamRunOptions {
   std::optional<std::uint64_t> max_steps;
   /// Options of the log reader.
   AnyRawlogOptions reader;
-  /// Called after every processed step, if set.
-  std::function<void(const RbpfSlamStep&)> on_step;
+  /// Called after every processed step with its index, if set.
+  std::function<void(std::uint64_t)> on_step;
 };
 
 /// How a run ended.
