@@ -16,11 +16,7 @@ ini=data/mrpt/gridmapping_optimal_sampling.ini
 rawlog=data/mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog
 work=build/bench/rbpf_slam_seeds
 mkdir -p "$work"
-if [ -z "${ROVE_BIN:-}" ]; then  # ROVE_BIN: a Release rove binary already built
-  cmake -S . -B build/bench-release -DCMAKE_BUILD_TYPE=Release -DROVE_BUILD_TESTS=OFF >/dev/null
-  cmake --build build/bench-release --target rove -j2 >/dev/null
-fi
-rove=${ROVE_BIN:-build/bench-release/apps/rove}
+. bench/rove_release.sh
 
 "$rove" icp-slam --no-progress data/mrpt/icp-slam_demo_classic.ini "$rawlog" -o "$work/icp" > /dev/null
 "$rove" map build "$ini" "$work/icp/map.simplemap" --section MappingApplication -o "$work/icp_grid" > /dev/null

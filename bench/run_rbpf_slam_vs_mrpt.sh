@@ -8,7 +8,7 @@
 # folder ("as shipped"), and once more with its periodic logs and images off
 # (LOG_FREQUENCY=0, SAVE_MAP_IMAGES=0, SAVE_3D_SCENE=0: "quiet"), its
 # filter alone. rove writes its own outputs (map, path, ESS, picture).
-# Needs mrpt-apps. Usage: bench/run_rbpf_slam_vs_mrpt.sh [runs]
+# Needs mrpt-apps. Usage: [ROVE_BIN=path/to/rove] bench/run_rbpf_slam_vs_mrpt.sh [runs]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -18,9 +18,7 @@ rawlog="$root/data/mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog"
 ini="$root/data/mrpt/gridmapping_optimal_sampling.ini"
 work=build/bench/rbpf_slam
 mkdir -p "$work"
-cmake -S . -B build/bench-release -DCMAKE_BUILD_TYPE=Release -DROVE_BUILD_TESTS=OFF >/dev/null
-cmake --build build/bench-release --target rove -j2 >/dev/null
-rove=build/bench-release/apps/rove
+. bench/rove_release.sh
 
 sed -e 's|^SHOW_PROGRESS_IN_WINDOW *=.*|SHOW_PROGRESS_IN_WINDOW=0|' \
     -e "s|^logOutput_dir *=.*|logOutput_dir=$root/$work/mrpt_shipped|" "$ini" > "$work/mrpt_shipped.ini"

@@ -25,11 +25,7 @@ rawlog="$root/data/mrpt/RO-SLAM_demo.rawlog"
 truth="$root/data/mrpt/RO-SLAM_demo_ground_truth.txt"
 work=build/bench/ro_slam
 mkdir -p "$work"
-if [ -z "${ROVE_BIN:-}" ]; then  # ROVE_BIN: a Release rove binary already built
-  cmake -S . -B build/bench-release -DCMAKE_BUILD_TYPE=Release -DROVE_BUILD_TESTS=OFF >/dev/null
-  cmake --build build/bench-release --target rove -j2 >/dev/null
-fi
-rove=${ROVE_BIN:-build/bench-release/apps/rove}
+. bench/rove_release.sh
 
 errors() {  # errors BEACONS_FILE PATH_FILE FORMAT -> "beacon_rmse path_rmse"
   python3 - "$truth" "$1" "$2" "$3" <<'PY'

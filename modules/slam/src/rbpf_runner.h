@@ -240,4 +240,48 @@ RbpfLogRead read_log(Runner& runner, const std::string& path, const AnyRawlogOpt
   return out;
 }
 
+/// The filter's options with the run's seed, threads and particle count.
+template <typename Options>
+Options with_run_options(Options o, const RbpfSlamRunOptions& run) {
+  o.seed = run.seed;
+  o.num_threads = run.num_threads;
+  if (run.particles) o.particles = *run.particles;
+  return o;
+}
+
+/// Runs `filter` (observing `Obs`) over the log at `rawlog` (read_log),
+/// recording its steps; `also(step)` is called after each step before the
+/// run options' on_step.
+template <typename Obs, typename Step, bool Step::*kObserved, typename Filter>
+RbpfLogRead run_filter_over_log(Filter& filter, const RbpfSlamConfig& config,
+                                const RbpfSlamRunOptions& options, const std::string& rawlog,
+                                std::vector<Step>& steps, RbpfRunCounts& counts, const char* what,
+                                const std::function<void(const Step&)>& also = {}) {
+  const auto on_step = [&](const Step& s) {
+    if (also) also(s);
+    if (options.on_step) options.on_step(s.index);
+  };
+  RbpfRunner<Obs, Filter, Step, kObserved> runner(filter, config, options.max_steps, on_step, rawlog,
+                                                  steps, counts);
+  return read_log(runner, rawlog, options.reader, config, counts, steps, what);
+}
+
+/// Fills what `totals` takes from the log's reading, the runner's counts
+/// and the filter's most likely particle, whose path `nodes` are.
+template <typename Filter, typename Step>
+void fill_totals(RbpfRunTotals& totals, const RbpfLogRead& read, const RbpfRunCounts& counts,
+                 const Filter& filter, const std::vector<Step>& steps,
+                 const std::vector<RbpfPathNode>& nodes) {
+  totals.format = read.format;
+  totals.entries = read.entries;
+  totals.read_seconds = read.seconds;
+  totals.updates = counts.updates;
+  totals.insertions = counts.insertions;
+  totals.mapping_seconds = counts.seconds;
+  totals.best = filter.best();
+  totals.best_log_weight = filter.log_weights()[totals.best];
+  totals.path = best_path(steps, nodes);
+  for (const auto& p : filter.particles()) totals.particles.push_back(p.pose);
+}
+
 }  // namespace rove::detail

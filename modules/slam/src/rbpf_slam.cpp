@@ -343,9 +343,11 @@ RbpfPathNode::~RbpfPathNode() {
   }
 }
 
-std::vector<RbpfPathNode> path_of(const RbpfParticle& particle) {
+std::vector<RbpfPathNode> path_of(const RbpfParticle& particle) { return path_of(particle.path); }
+
+std::vector<RbpfPathNode> path_of(const std::shared_ptr<const RbpfPathNode>& last) {
   std::vector<RbpfPathNode> out;
-  for (const RbpfPathNode* n = particle.path.get(); n != nullptr; n = n->previous.get()) out.push_back(*n);
+  for (const RbpfPathNode* n = last.get(); n != nullptr; n = n->previous.get()) out.push_back(*n);
   std::reverse(out.begin(), out.end());
   return out;
 }

@@ -54,34 +54,17 @@ std::string_view to_string(RbpfSlamTermination t) noexcept {
 RbpfSlamResult run_rbpf_slam(const RbpfSlamConfig& config, const std::string& rawlog_path,
                              const RbpfSlamRunOptions& options) {
   RbpfSlamResult res;
-  RbpfSlamOptions o = config.options;
-  o.seed = options.seed;
-  o.num_threads = options.num_threads;
-  if (options.particles) o.particles = *options.particles;
-  res.options = o;
-  RbpfSlam slam(o);
+  res.options = detail::with_run_options(config.options, options);
+  RbpfSlam slam(res.options);
   detail::RbpfRunCounts counts;
-  const auto on_step = [&](const RbpfSlamStep& s) {
-    if (s.updated) res.peak_tiles = std::max(res.peak_tiles, s.update.distinct_tiles);
-    if (options.on_step) options.on_step(s.index);
-  };
-  detail::RbpfRunner<RangeScan2D, RbpfSlam, RbpfSlamStep, &RbpfSlamStep::scan> runner(
-      slam, config, options.max_steps, on_step, rawlog_path, res.steps, counts);
-  const detail::RbpfLogRead read =
-      detail::read_log(runner, rawlog_path, options.reader, config, counts, res.steps, "2D laser scan");
-  res.format = read.format;
-  res.entries = read.entries;
-  res.read_seconds = read.seconds;
+  const detail::RbpfLogRead read = detail::run_filter_over_log<RangeScan2D, RbpfSlamStep, &RbpfSlamStep::scan>(
+      slam, config, options, rawlog_path, res.steps, counts, "2D laser scan", [&](const RbpfSlamStep& s) {
+        if (s.updated) res.peak_tiles = std::max(res.peak_tiles, s.update.distinct_tiles);
+      });
   res.scans = counts.observations;
-  res.updates = counts.updates;
-  res.insertions = counts.insertions;
-  res.mapping_seconds = counts.seconds;
-  res.best = slam.best();
-  res.best_log_weight = slam.log_weights()[res.best];
-  const RbpfParticle& best = slam.particles()[res.best];
-  res.path = detail::best_path(res.steps, path_of(best));
+  const RbpfParticle& best = slam.particles()[slam.best()];
+  detail::fill_totals(res, read, counts, slam, res.steps, path_of(best));
   res.map = best.map.to_occupancy_grid();
-  for (const auto& p : slam.particles()) res.particles.push_back(p.pose);
   res.peak_tiles = std::max(res.peak_tiles, slam.distinct_tiles());
   res.peak_tile_bytes = res.peak_tiles * sizeof(GridTile);
   std::size_t largest = 0;

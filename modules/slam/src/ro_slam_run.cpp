@@ -44,36 +44,15 @@ RoSlamResult run_ro_slam(const RbpfSlamConfig& config, const std::string& rawlog
                  "run_ro_slam needs a configuration with a beacon map ({} has an occupancy grid)",
                  config.source);
   RoSlamResult res;
-  RoSlamOptions o = config.beacons;
-  o.seed = options.seed;
-  o.num_threads = options.num_threads;
-  if (options.particles) o.particles = *options.particles;
-  res.options = o;
-  RoSlam slam(o);
+  res.options = detail::with_run_options(config.beacons, options);
+  RoSlam slam(res.options);
   detail::RbpfRunCounts counts;
-  const auto on_step = [&](const RoSlamStep& s) {
-    if (options.on_step) options.on_step(s.index);
-  };
-  detail::RbpfRunner<BeaconRanges, RoSlam, RoSlamStep, &RoSlamStep::ranges> runner(
-      slam, config, options.max_steps, on_step, rawlog_path, res.steps, counts);
-  const detail::RbpfLogRead read =
-      detail::read_log(runner, rawlog_path, options.reader, config, counts, res.steps, "beacon ranges");
-  res.format = read.format;
-  res.entries = read.entries;
-  res.read_seconds = read.seconds;
+  const detail::RbpfLogRead read = detail::run_filter_over_log<BeaconRanges, RoSlamStep, &RoSlamStep::ranges>(
+      slam, config, options, rawlog_path, res.steps, counts, "beacon ranges");
   res.observations = counts.observations;
-  res.updates = counts.updates;
-  res.insertions = counts.insertions;
-  res.mapping_seconds = counts.seconds;
-  res.best = slam.best();
-  res.best_log_weight = slam.log_weights()[res.best];
-  const RoSlamParticle& best = slam.particles()[res.best];
-  std::vector<RbpfPathNode> nodes;
-  for (const RbpfPathNode* n = best.path.get(); n != nullptr; n = n->previous.get()) nodes.push_back(*n);
-  std::reverse(nodes.begin(), nodes.end());
-  res.path = detail::best_path(res.steps, nodes);
+  const RoSlamParticle& best = slam.particles()[slam.best()];
+  detail::fill_totals(res, read, counts, slam, res.steps, path_of(best.path));
   res.map = *best.map;
-  for (const auto& p : slam.particles()) res.particles.push_back(p.pose);
   conclude(res, config);
   return res;
 }

@@ -229,5 +229,7 @@ class RbpfSlam {
 
 /// The path of a particle, oldest first.
 std::vector<RbpfPathNode> path_of(const RbpfParticle& particle);
+/// The path ending at `last`, oldest first (empty for null).
+std::vector<RbpfPathNode> path_of(const std::shared_ptr<const RbpfPathNode>& last);
 
 }  // namespace rove

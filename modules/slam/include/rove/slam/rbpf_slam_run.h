@@ -92,26 +92,42 @@ enum class RbpfSlamTermination : std::uint8_t {
 /// "completed" or "completed-with-issues".
 std::string_view to_string(RbpfSlamTermination termination) noexcept;
 
-/// The result of run_rbpf_slam.
-struct RbpfSlamResult {
+/// What every RBPF run reports (grid mapping here, range-only SLAM in
+/// ro_slam_run.h) besides its steps, its map and its options.
+struct RbpfRunTotals {
   /// How the run ended.
   RbpfSlamTermination termination = RbpfSlamTermination::Completed;
-  /// One line: steps, updates, insertions, the final ESS.
+  /// One line: steps, updates, insertions, the most likely particle.
   std::string message;
-  /// Every processed step.
-  std::vector<RbpfSlamStep> steps;
   /// The most likely particle's pose T_map_robot at every step: its pose
   /// at its last update up to the step, moved on by the odometry since.
   std::vector<Pose2> path;
-  /// The most likely particle's map.
-  OccupancyGrid map;
   /// Every particle's final pose T_map_robot.
   std::vector<SE2d> particles;
   /// Index of the most likely particle and its normalized log-weight.
   std::size_t best = 0;
   double best_log_weight = 0.0;
-  /// Filter updates and scan insertions run.
+  /// Filter updates and insertions run.
   std::uint64_t updates = 0, insertions = 0;
+  /// Sum of the steps' processing times, seconds.
+  double mapping_seconds = 0.0;
+  /// Time spent reading the log, seconds.
+  double read_seconds = 0.0;
+  /// The log's format and entries read.
+  RawlogFormat format = RawlogFormat::Mrpt;
+  std::uint64_t entries = 0;
+  /// What the user must know (empty when fine).
+  std::vector<RbpfSlamIssue> issues;
+  /// True when the run completed without issues.
+  bool ok() const noexcept { return termination == RbpfSlamTermination::Completed; }
+};
+
+/// The result of run_rbpf_slam.
+struct RbpfSlamResult : RbpfRunTotals {
+  /// Every processed step.
+  std::vector<RbpfSlamStep> steps;
+  /// The most likely particle's map.
+  OccupancyGrid map;
   /// 2D scans in the processed steps.
   std::uint64_t scans = 0;
   /// Most distinct tiles all particles held at once, and their bytes.
@@ -120,19 +136,8 @@ struct RbpfSlamResult {
   /// Tiles the particles would hold without sharing (particles × tiles of
   /// the largest map), at the end.
   std::size_t unshared_tiles = 0;
-  /// Sum of the steps' processing times, seconds.
-  double mapping_seconds = 0.0;
-  /// Time spent reading the log, seconds.
-  double read_seconds = 0.0;
-  /// The log's format and entries read.
-  RawlogFormat format = RawlogFormat::Mrpt;
-  std::uint64_t entries = 0;
   /// The options the filter ran with (seed, threads, overrides applied).
   RbpfSlamOptions options;
-  /// What the user must know (empty when fine).
-  std::vector<RbpfSlamIssue> issues;
-  /// True when the run completed without issues.
-  bool ok() const noexcept { return termination == RbpfSlamTermination::Completed; }
 };
 
 /// Maps the log at `rawlog_path` with the configuration (see the file

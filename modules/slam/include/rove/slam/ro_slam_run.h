@@ -53,40 +53,15 @@ struct RoSlamStep {
 };
 
 /// The result of run_ro_slam.
-struct RoSlamResult {
-  /// How the run ended.
-  RbpfSlamTermination termination = RbpfSlamTermination::Completed;
-  /// One line: steps, updates, insertions, beacons.
-  std::string message;
+struct RoSlamResult : RbpfRunTotals {
   /// Every processed step.
   std::vector<RoSlamStep> steps;
-  /// The most likely particle's pose T_map_robot at every step: its pose
-  /// at its last update up to the step, moved on by the odometry since.
-  std::vector<Pose2> path;
   /// The most likely particle's beacons (map frame, meters).
   BeaconMap map;
-  /// Every particle's final pose T_map_robot.
-  std::vector<SE2d> particles;
-  /// Index of the most likely particle and its normalized log-weight.
-  std::size_t best = 0;
-  double best_log_weight = 0.0;
-  /// Filter updates and insertions run.
-  std::uint64_t updates = 0, insertions = 0;
   /// Steps holding beacon ranges.
   std::uint64_t observations = 0;
-  /// Sum of the steps' processing times, seconds.
-  double mapping_seconds = 0.0;
-  /// Time spent reading the log, seconds.
-  double read_seconds = 0.0;
-  /// The log's format and entries read.
-  RawlogFormat format = RawlogFormat::Mrpt;
-  std::uint64_t entries = 0;
   /// The options the filter ran with (seed, threads, overrides applied).
   RoSlamOptions options;
-  /// What the user must know (empty when fine).
-  std::vector<RbpfSlamIssue> issues;
-  /// True when the run completed without issues.
-  bool ok() const noexcept { return termination == RbpfSlamTermination::Completed; }
 };
 
 /// Maps the beacons of the log at `rawlog_path` with a configuration whose
