@@ -25,24 +25,14 @@
 #include "rove/core/timer.h"
 #include "rove/io/pcd.h"
 #include "rove/io/ply.h"
-#include "rove/maps/voxel_grid.h"
 #include "rove/poses/lie_conversion.h"
-#include "rove/registration/icp_3d.h"
-#include "rove/registration/icp_3d_multi_resolution.h"
-#include "rove/registration/ndt.h"
-#include "rove/registration/voxel_size.h"
+#include "rove/registration/align.h"
 
 namespace rove::cli {
 
 namespace {
 
-/// `--voxel auto`: the coarse leaf keeps at most this many occupied voxels
-/// of the target (suggest_voxel_size); the ICP family adds a finer level at
-/// kFineRatio × the coarse leaf.
-constexpr std::size_t kAutoVoxels = 7000;
-constexpr double kFineRatio = 0.4;
-
-struct AlignOptions {
+struct AlignCliOptions {
   std::string source, target, method = "gicp", init, init_file, output;
   std::string voxel = "auto";
   double max_distance = 1.0;
@@ -120,89 +110,6 @@ std::string join(const std::vector<double>& v) {
   return s;
 }
 
-/// What one registration produced, whichever method ran.
-struct AlignOutcome {
-  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
-  double fitness = 0, goodness = 0;
-  int iterations = 0;
-  std::size_t source_points = 0, target_points = 0;
-  RegistrationTermination termination = RegistrationTermination::InvalidInput;
-  std::string message;
-  std::vector<std::string> level_messages;
-  double gate = 0;  // --max-distance when one ICP level ran, else 0
-  int iteration_cap = 0;
-};
-
-AlignOutcome run_ndt(const AlignOptions& o, const PointCloud& source_full,
-                     const PointCloud& target_full, const SE3d& init, double leaf, int threads) {
-  const auto down = [&](const PointCloud& c) {
-    return leaf > 0 ? voxel_downsample(c, static_cast<float>(leaf)) : c;
-  };
-  const PointCloud source = down(source_full);
-  const PointCloud target = down(target_full);
-  AlignOutcome out;
-  out.source_points = source.size();
-  out.target_points = target.size();
-  NdtGridOptions go;
-  go.resolution = o.resolution;
-  const NdtGrid3D grid(std::span<const Eigen::Vector3f>(target.points()), go);
-  NdtOptions no;
-  no.num_threads = threads;
-  if (o.max_iterations > 0) no.max_iterations = o.max_iterations;
-  out.iteration_cap = no.max_iterations;
-  const auto r = ndt_3d(grid, source.points(), init, no);
-  out.T = r.T_target_source.matrix();
-  out.fitness = r.fitness;
-  out.goodness = r.goodness;
-  out.iterations = r.iterations;
-  out.termination = r.termination;
-  out.message = r.message;
-  return out;
-}
-
-AlignOutcome run_icp(const AlignOptions& o, const PointCloud& source_full,
-                     const PointCloud& target_full, const SE3d& init,
-                     const std::vector<double>& voxels, int threads) {
-  AlignOutcome out;
-  // One voxel size: one level, gate --max-distance. Several: coarse to
-  // fine, gate --distance-factor × voxel at each level.
-  Icp3dMultiResolutionOptions mo;
-  mo.voxel_sizes = voxels;
-  mo.neighbors = o.neighbors;
-  if (voxels.size() == 1) {
-    if (voxels.front() > 0) {
-      mo.distance_factor = o.max_distance / voxels.front();
-    } else {
-      mo.full_resolution_distance = o.max_distance;
-    }
-    out.gate = o.max_distance;
-  } else {
-    mo.distance_factor = o.distance_factor;
-  }
-  if (o.method == "icp") {
-    mo.icp.method = Icp3dMethod::PointToPoint;
-  } else if (o.method == "point-to-plane") {
-    mo.icp.method = Icp3dMethod::PointToPlane;
-  } else {
-    mo.icp.method = Icp3dMethod::Gicp;
-  }
-  mo.icp.num_threads = threads;
-  if (o.max_iterations > 0) mo.icp.max_iterations = o.max_iterations;
-  out.iteration_cap = mo.icp.max_iterations;
-  const auto rr = icp_3d_multi_resolution(target_full.points(), source_full.points(), init, mo);
-  for (const auto& level : rr.levels) out.level_messages.push_back(level.message);
-  const auto& r = rr.result;
-  out.T = r.T_target_source.matrix();
-  out.fitness = r.fitness;
-  out.goodness = r.goodness;
-  out.iterations = rr.total_iterations;
-  out.termination = r.termination;
-  out.message = r.message;
-  out.source_points = rr.source_points.back();
-  out.target_points = rr.target_points.back();
-  return out;
-}
-
 /// Writes the source cloud moved by T (points and normals) to `path`.
 void write_aligned(const std::string& path, PointCloud aligned, const Eigen::Matrix4d& T) {
   const Eigen::Matrix3f R = T.topLeftCorner<3, 3>().cast<float>();
@@ -220,21 +127,22 @@ void write_aligned(const std::string& path, PointCloud aligned, const Eigen::Mat
   });
 }
 
-void print_json(const AlignOptions& o, const AlignOutcome& a, const std::vector<double>& voxels,
-                bool auto_voxel, int threads, double seconds, const std::vector<Issue>& issues) {
+void print_json(const AlignCliOptions& o, const AlignResult& a, int threads, double seconds,
+                const std::vector<Issue>& issues) {
+  const Eigen::Matrix4d T = a.T_target_source.matrix();
   JsonWriter j;
   j.begin_object();
   j.key("command").value("align");
   j.key("source").value(o.source).key("target").value(o.target);
   j.key("method").value(o.method);
   j.key("voxel").begin_array();
-  for (double v : voxels) j.value(v);
+  for (double v : a.voxel_sizes) j.value(v);
   j.end_array();
-  j.key("voxel_auto").value(auto_voxel);
+  j.key("voxel_auto").value(a.voxel_auto);
   if (o.method == "ndt") {
     j.key("resolution").value(o.resolution);
-  } else if (a.gate > 0) {
-    j.key("max_distance").value(a.gate);
+  } else if (a.max_distance > 0) {
+    j.key("max_distance").value(a.max_distance);
   } else {
     j.key("distance_factor").value(o.distance_factor);
   }
@@ -244,7 +152,7 @@ void print_json(const AlignOptions& o, const AlignOutcome& a, const std::vector<
   j.key("T_target_source").begin_array();
   for (int r = 0; r < 4; ++r) {
     j.begin_array();
-    for (int c = 0; c < 4; ++c) j.value(a.T(r, c));
+    for (int c = 0; c < 4; ++c) j.value(T(r, c));
     j.end_array();
   }
   j.end_array();
@@ -265,20 +173,21 @@ void print_json(const AlignOptions& o, const AlignOutcome& a, const std::vector<
   fmt::print("{}\n", j.str());
 }
 
-void print_text(const AlignOptions& o, const AlignOutcome& a, const std::vector<double>& voxels,
-                bool auto_voxel, double seconds, const std::vector<Issue>& issues) {
+void print_text(const AlignCliOptions& o, const AlignResult& a, double seconds,
+                const std::vector<Issue>& issues) {
+  const Eigen::Matrix4d T = a.T_target_source.matrix();
+  const std::vector<double>& voxels = a.voxel_sizes;
   const std::string voxel_text =
       voxels.size() == 1 && voxels.front() == 0 ? "none" : join(voxels) + " m";
   for (const auto& m : a.level_messages) fmt::print("{}\n", m);
   fmt::print("T_target_source:\n");
   for (int i = 0; i < 4; ++i)
-    fmt::print("{:12.6f} {:12.6f} {:12.6f} {:12.6f}\n", a.T(i, 0), a.T(i, 1), a.T(i, 2),
-               a.T(i, 3));
+    fmt::print("{:12.6f} {:12.6f} {:12.6f} {:12.6f}\n", T(i, 0), T(i, 1), T(i, 2), T(i, 3));
   fmt::print("method: {}\nvoxel: {}{}\npoints: source {} target {}\nfitness: {:.6g} m^2\n"
              "goodness: {:.4f}\niterations: {} (cap {}{})\ntime: {:.3f} s\n"
              "termination: {} ({})\n",
              o.method, voxel_text,
-             auto_voxel ? " (auto, from the target's density; --voxel 0 disables it)" : "",
+             a.voxel_auto ? " (auto, from the target's density; --voxel 0 disables it)" : "",
              a.source_points, a.target_points, a.fitness, a.goodness, a.iterations,
              a.iteration_cap, o.method == "ndt" ? "" : " per level", seconds,
              to_string(a.termination), a.message);
@@ -286,7 +195,7 @@ void print_text(const AlignOptions& o, const AlignOutcome& a, const std::vector<
   fmt::print("issues: {}\n", issues.empty() ? "none" : std::to_string(issues.size()));
 }
 
-void run(const AlignOptions& o) {
+void run(const AlignCliOptions& o) {
   // Everything the command line names is checked before any work.
   const int threads = resolve_thread_count(o.threads, "--threads");
   std::optional<std::vector<double>> voxels = parse_voxels(o.voxel);
@@ -307,29 +216,26 @@ void run(const AlignOptions& o) {
   const PointCloud source_full = read_cloud(o.source, "source cloud");
   const PointCloud target_full = read_cloud(o.target, "target cloud");
 
+  AlignOptions ao;
+  ao.method = parse_align_method(o.method);
+  ao.voxel_sizes = voxels;
+  ao.max_distance = o.max_distance;
+  ao.distance_factor = o.distance_factor;
+  ao.neighbors = o.neighbors;
+  ao.ndt_resolution = o.resolution;
+  ao.max_iterations = o.max_iterations;
+  ao.num_threads = threads;
   const Stopwatch clock;
-  const bool auto_voxel = !voxels;
-  if (auto_voxel) {
-    const double v = suggest_voxel_size(target_full.points(), kAutoVoxels);
-    if (v == 0 || o.method == "ndt") {
-      voxels = std::vector<double>{v};
-    } else {
-      voxels = std::vector<double>{v, std::round(v * kFineRatio * 1e4) / 1e4};
-    }
-  }
-  const AlignOutcome a =
-      o.method == "ndt"
-          ? run_ndt(o, source_full, target_full, init, voxels->front(), threads)
-          : run_icp(o, source_full, target_full, init, *voxels, threads);
+  const AlignResult a = align_clouds(target_full.points(), source_full.points(), init, ao);
   const double seconds = clock.elapsed();
 
   std::vector<Issue> issues;
   if (!succeeded(a.termination)) issues.push_back({issue_code(a.termination), a.message});
-  if (!o.output.empty()) write_aligned(o.output, source_full, a.T);
+  if (!o.output.empty()) write_aligned(o.output, source_full, a.T_target_source.matrix());
   if (o.json) {
-    print_json(o, a, *voxels, auto_voxel, threads, seconds, issues);
+    print_json(o, a, threads, seconds, issues);
   } else {
-    print_text(o, a, *voxels, auto_voxel, seconds, issues);
+    print_text(o, a, seconds, issues);
   }
   finish(issues);
 }
@@ -337,7 +243,7 @@ void run(const AlignOptions& o) {
 }  // namespace
 
 void add_align_command(CLI::App& app) {
-  auto o = std::make_shared<AlignOptions>();
+  auto o = std::make_shared<AlignCliOptions>();
   auto* cmd = app.add_subcommand(
       "align", "Register SOURCE onto TARGET (PCD or PLY) and print T_target_source; exit "
                "status 3 when the result is not Converged (the issue is listed)");
@@ -357,7 +263,7 @@ void add_align_command(CLI::App& app) {
                               "smaller cloud) and, for the ICP family, adds a level at {} x it; "
                               "0: no down-sampling; a list coarse to fine, e.g. 0.25,0.1, "
                               "registers level by level (ICP family)",
-                              kAutoVoxels, kFineRatio))
+                              AlignOptions::kAutoVoxels, AlignOptions::kFineRatio))
       ->capture_default_str();
   cmd->add_option("--distance-factor", o->distance_factor,
                   "Coarse to fine: pairing gate = factor x the level's voxel")

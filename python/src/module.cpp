@@ -1,0 +1,14 @@
+// The extension module rove._rove; the package rove (python/rove) re-exports
+// it. Each part registers its classes and functions in its own file.
+
+#include "bindings.h"
+
+PYBIND11_MODULE(_rove, m) {
+  m.doc() = "rove: a toolkit for mobile robots (C++), from Python.";
+  rove::python::bind_errors(m);
+  rove::python::bind_geometry(m);
+  rove::python::bind_clouds(m);
+  rove::python::bind_grids(m);
+  rove::python::bind_io(m);
+  rove::python::bind_registration(m);
+}
