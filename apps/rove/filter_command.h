@@ -16,13 +16,40 @@
 #include <system_error>
 #include <vector>
 
+#include "commands.h"
 #include "report.h"
 #include "rove/core/error.h"
 #include "rove/core/files.h"
 #include "rove/core/interrupt.h"
+#include "rove/core/parallel.h"
 #include "rove/core/progress.h"
 
 namespace rove::cli {
+
+/// The log to read: `given` (the command line's), else the config's
+/// `rawlog_file` resolved (config.resolve). ConfigError naming
+/// `config_path`, [`section`] rawlog_file when there is neither.
+template <typename Config>
+std::string rawlog_to_read(const std::string& given, const std::string& config_path,
+                           const Config& config, const char* section) {
+  if (!given.empty()) return given;
+  if (config.rawlog_file.empty()) {
+    throw ConfigError(config_path, section, "rawlog_file",
+                      "no rawlog given on the command line and none in the config file");
+  }
+  return config.resolve(config.rawlog_file, "rawlog_file");
+}
+
+/// Adds --seed and --threads (whose results do not depend on it) to `cmd`.
+inline void add_seed_and_threads(CLI::App* cmd, std::uint64_t& seed, int& threads) {
+  cmd->add_option("--seed", seed, "seed of the random numbers (same seed, same result)")
+      ->capture_default_str();
+  cmd->add_option("--threads", threads,
+                  fmt::format("threads, 1 to {}, 0 for all hardware threads (results do not "
+                              "depend on it)",
+                              kMaxThreads))
+      ->capture_default_str();
+}
 
 /// The output folder -o: IoError if it exists and is not a folder.
 inline std::filesystem::path output_folder(const std::string& out_dir) {

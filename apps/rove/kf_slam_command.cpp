@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "filter_command.h"
 #include "kf_slam_picture.h"
 #include "report.h"
 #include "rove/core/error.h"
@@ -37,14 +38,6 @@ struct KfSlamCliOptions {
   std::optional<std::uint64_t> max_steps;
 };
 
-std::string resolve_rawlog(const KfSlamCliOptions& o, const KfSlamConfig& cfg) {
-  if (!o.rawlog.empty()) return o.rawlog;
-  if (cfg.rawlog_file.empty()) {
-    throw ConfigError(o.config, "MappingApplication", "rawlog_file",
-                      "no rawlog given on the command line and none in the config file");
-  }
-  return cfg.resolve(cfg.rawlog_file, "rawlog_file");
-}
 
 // One line per step: pose, uncertainty, pairing counts, NIS, timing.
 void write_steps(const fs::path& path, const KfSlamResult& res) {
@@ -229,7 +222,7 @@ void run(const KfSlamCliOptions& o) {
   check_regular_input(o.config, "kf-slam config file");
   const IniFile ini = IniFile::load(o.config);
   const KfSlamConfig cfg = load_kf_slam_config(ini);
-  const std::string rawlog = resolve_rawlog(o, cfg);
+  const std::string rawlog = rawlog_to_read(o.rawlog, o.config, cfg, "MappingApplication");
   check_regular_input(rawlog, "rawlog");
   const fs::path dir(o.out_dir);
   if (fs::exists(dir) && !fs::is_directory(dir)) {

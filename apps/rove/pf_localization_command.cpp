@@ -16,6 +16,7 @@
 #include "cli_values.h"
 #include "commands.h"
 #include "data_dir.h"
+#include "filter_command.h"
 #include "report.h"
 #include "rove/core/error.h"
 #include "rove/core/files.h"
@@ -91,14 +92,6 @@ RecoveryOptions parse_recovery(const std::string& text) {
   return r;
 }
 
-std::string resolve_rawlog(const PfLocalizationCliOptions& o, const PfLocalizationConfig& cfg) {
-  if (!o.rawlog.empty()) return o.rawlog;
-  if (cfg.rawlog_file.empty()) {
-    throw ConfigError(o.config, "LocalizationExperiment", "rawlog_file",
-                      "no rawlog given on the command line and none in the config file");
-  }
-  return cfg.resolve(cfg.rawlog_file, "rawlog_file");
-}
 
 std::string snapshot_name(const PfLocalizationSnapshot& s) {
   if (!s.step) return "particles_initial.txt";
@@ -320,14 +313,11 @@ void run(PfLocalizationCliOptions o) {
   const IniFile ini = IniFile::load(o.config);
   PfLocalizationConfig cfg = load_pf_localization_config(ini);
   if (!o.map.empty()) cfg.map_file = o.map;
-  const std::string rawlog = resolve_rawlog(o, cfg);
+  const std::string rawlog = rawlog_to_read(o.rawlog, o.config, cfg, "LocalizationExperiment");
   check_regular_input(rawlog, "rawlog");
   PfLocalizationRunOptions ro = run_options(o, cfg);
 
-  const fs::path dir(o.out_dir);
-  if (fs::exists(dir) && !fs::is_directory(dir)) {
-    throw IoError(o.out_dir, "the output folder (-o) exists and is not a folder");
-  }
+  const fs::path dir = output_folder(o.out_dir);
   std::vector<fs::path> inputs{fs::path(o.config), fs::path(rawlog)};
   if (!cfg.map_file.empty()) inputs.emplace_back(cfg.resolve(cfg.map_file, "map_file"));
   if (!cfg.ground_truth_file.empty()) {
@@ -336,44 +326,21 @@ void run(PfLocalizationCliOptions o) {
   const std::vector<fs::path> fixed{dir / "path.tum", dir / "odometry.tum", dir / "steps.txt",
                                     dir / "map.png", dir / "summary.json"};
   check_outputs_distinct(inputs, fixed);
-
-  std::optional<Progress> progress;
-  if (o.progress) progress.emplace(std::nullopt, "pf-localization " + printable(rawlog), std::cerr);
-  std::uint64_t steps_done = 0;
-  ro.on_step = [&](const PfLocalizationStep&) {
-    ++steps_done;
-    if (progress) progress->advance();
-  };
-  PfLocalizationResult res;
-  try {
-    res = run_pf_localization(std::move(cfg), rawlog, ro);
-  } catch (const Interrupted&) {
-    if (progress) progress->finish();
-    fmt::print(stderr, "rove: interrupted after {} steps; nothing written to {}\n", steps_done,
-               printable(o.out_dir));
-    throw;
-  }
-  if (progress) progress->finish();
-
-  std::vector<Issue> issues;
-  for (const auto& i : res.issues) issues.push_back({i.code, i.message});
+  const PfLocalizationResult res = run_with_progress(
+      o.progress, "pf-localization " + printable(rawlog), o.out_dir,
+      [&](const std::function<void()>& step) {
+        ro.on_step = [&](const PfLocalizationStep&) { step(); };
+        return run_pf_localization(std::move(cfg), rawlog, ro);
+      });
+  const std::vector<Issue> issues = to_issues(res.issues);
   std::vector<fs::path> outputs = fixed;
   for (const auto& s : res.snapshots) outputs.push_back(dir / snapshot_name(s));
   check_outputs_distinct(inputs, outputs);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw IoError(o.out_dir, "cannot create the output folder: " + ec.message());
+  create_output_folder(dir);
   Written w = write_outputs(dir, res);
-  const fs::path summary_path = dir / "summary.json";
-  w.files.push_back(summary_path.string());
-  const std::string summary = summary_json(o, o.config, rawlog, res, issues, w, total.elapsed());
-  write_text_file_atomically(summary_path, summary);
-  if (o.json) {
-    fmt::print("{}", summary);
-  } else {
-    print_text(o.config, rawlog, res, issues, w, o.out_dir, total.elapsed());
-  }
-  finish(issues);
+  publish_summary(
+      dir, w.files, o.json, [&] { return summary_json(o, o.config, rawlog, res, issues, w, total.elapsed()); },
+      [&] { print_text(o.config, rawlog, res, issues, w, o.out_dir, total.elapsed()); }, issues);
 }
 
 }  // namespace
@@ -390,13 +357,7 @@ void add_pf_localization_command(CLI::App& app) {
   cmd->add_option("-o,--output", o->out_dir, "output folder")->capture_default_str();
   cmd->add_option("--map", o->map,
                   "map file replacing the config's map_file (.simplemap, .gridmap, ROS .yaml)");
-  cmd->add_option("--seed", o->seed, "seed of the random numbers (same seed, same result)")
-      ->capture_default_str();
-  cmd->add_option("--threads", o->threads,
-                  fmt::format("threads, 1 to {}, 0 for all hardware threads (results do not "
-                              "depend on it)",
-                              kMaxThreads))
-      ->capture_default_str();
+  add_seed_and_threads(cmd, o->seed, o->threads);
   cmd->add_option("--particles", o->particles,
                   "initial particle count (default: the config's particles_count)")
       ->check(CLI::Range(1u, 100000000u));

@@ -37,14 +37,6 @@ struct Reference {
   GridAgreement agreement;
 };
 
-std::string resolve_rawlog(const RbpfSlamCliOptions& o, const RbpfSlamConfig& cfg) {
-  if (!o.rawlog.empty()) return o.rawlog;
-  if (cfg.rawlog_file.empty()) {
-    throw ConfigError(o.config, "MappingApplication", "rawlog_file",
-                      "no rawlog given on the command line and none in the config file");
-  }
-  return cfg.resolve(cfg.rawlog_file, "rawlog_file");
-}
 
 // One line per filter update: the effective sample size before resampling
 // and what the update did.
@@ -178,7 +170,7 @@ void run(const RbpfSlamCliOptions& o) {
   check_regular_input(o.config, "rbpf-slam config file");
   const IniFile ini = IniFile::load(o.config);
   const RbpfSlamConfig cfg = load_rbpf_slam_config(ini);
-  const std::string rawlog = resolve_rawlog(o, cfg);
+  const std::string rawlog = rawlog_to_read(o.rawlog, o.config, cfg, "MappingApplication");
   check_regular_input(rawlog, "rawlog");
   RbpfSlamRunOptions ro;
   ro.seed = o.seed;
@@ -248,13 +240,7 @@ void add_rbpf_slam_command(CLI::App& app) {
       ->required();
   cmd->add_option("rawlog", o->rawlog, "rawlog or CARMEN log (default: the config's rawlog_file)");
   cmd->add_option("-o,--output", o->out_dir, "output folder")->capture_default_str();
-  cmd->add_option("--seed", o->seed, "seed of the random numbers (same seed, same result)")
-      ->capture_default_str();
-  cmd->add_option("--threads", o->threads,
-                  fmt::format("threads, 1 to {}, 0 for all hardware threads (results do not "
-                              "depend on it)",
-                              kMaxThreads))
-      ->capture_default_str();
+  add_seed_and_threads(cmd, o->seed, o->threads);
   cmd->add_option("--particles", o->particles, "particle count (default: the config's sampleSize)")
       ->check(CLI::Range(1u, 1000000u));
   cmd->add_option("--max-steps", o->max_steps, "process at most this many steps (default: all)");
