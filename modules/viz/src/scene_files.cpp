@@ -36,9 +36,12 @@ const char* to_string(SceneInputKind kind) noexcept {
     case SceneInputKind::Rawlog: return "rawlog";
     case SceneInputKind::Particles: return "particle file";
     case SceneInputKind::PfSteps: return "pf-localization steps";
+    case SceneInputKind::Landmarks: return "kf-slam landmarks";
     case SceneInputKind::IcpSlamFolder: return "rove icp-slam output";
     case SceneInputKind::LidarSlamFolder: return "rove lidar-slam output";
     case SceneInputKind::PfLocalizationFolder: return "rove pf-localization output";
+    case SceneInputKind::KfSlamFolder: return "rove kf-slam output";
+    case SceneInputKind::RbpfSlamFolder: return "rove rbpf-slam output";
     case SceneInputKind::NavRunFolder: return "rove nav run output";
   }
   return "unknown";
@@ -96,11 +99,14 @@ SceneInputKind detect_folder(const std::string& path) {
   };
   if (has("nodes.tum") && has("graph.g2o")) return SceneInputKind::LidarSlamFolder;
   if (has("keyframes.tum") && has("path.tum")) return SceneInputKind::IcpSlamFolder;
+  if (has("landmarks.csv") && has("path.tum")) return SceneInputKind::KfSlamFolder;
+  if (has("ess.csv") && has("path.tum")) return SceneInputKind::RbpfSlamFolder;
   if (has("steps.txt") && has("path.tum")) return SceneInputKind::PfLocalizationFolder;
   if (has("driven.tum") && has("planned.tum")) return SceneInputKind::NavRunFolder;
   throw ParseError({printable(path), std::nullopt, std::nullopt, "folder"},
                    "not an output folder of rove icp-slam (keyframes.tum, path.tum), lidar-slam (nodes.tum, "
-                   "graph.g2o), pf-localization (steps.txt, path.tum) or nav run (driven.tum, planned.tum)");
+                   "graph.g2o), pf-localization (steps.txt, path.tum), kf-slam (landmarks.csv, path.tum), "
+                   "rbpf-slam (ess.csv, path.tum) or nav run (driven.tum, planned.tum)");
 }
 
 SceneInputKind detect_text(const std::string& path) {
@@ -145,9 +151,10 @@ SceneInputKind detect_scene_input(const std::string& path) {
     if (ends_with_ci(p, ext)) return SceneInputKind::Rawlog;
   }
   if (ends_with_ci(p, ".txt")) return detect_text(path);
+  if (ends_with_ci(p, ".csv")) return SceneInputKind::Landmarks;
   throw ParseError({printable(path), std::nullopt, std::nullopt, "format"},
                    "a file rove cannot show (known: .pcd .ply map .yaml .bt .ot .tum .txt trajectories, .g2o "
-                   ".graph, rawlogs, and the output folders of rove's commands)");
+                   ".graph, rawlogs, kf-slam landmarks .csv, and the output folders of rove's commands)");
 }
 
 namespace detail {
@@ -231,6 +238,7 @@ std::string add_input_of_kind(Scene& scene, const std::string& path, SceneInputK
     case SceneInputKind::Rawlog: return detail::add_rawlog_file(scene, path, options);
     case SceneInputKind::Particles: return detail::add_particle_files(scene, {path}, {});
     case SceneInputKind::PfSteps: return detail::add_steps_file(scene, path, options);
+    case SceneInputKind::Landmarks: return detail::add_landmarks_file(scene, path);
     default: return detail::add_output_folder(scene, path, kind, options, report);
   }
 }

@@ -205,6 +205,8 @@ std::vector<std::string> files_like(const fs::path& dir, std::string_view prefix
   return out;
 }
 
+}  // namespace
+
 std::string add_paths(Scene& scene, const fs::path& dir, const std::string& main, const char* secondary,
                       Rgba8 secondary_color) {
   std::string what = add_trajectory_file(scene, (dir / main).string(), false, {}) + " (" + main + ")";
@@ -221,8 +223,6 @@ std::string add_paths(Scene& scene, const fs::path& dir, const std::string& main
   add_label(scene, start.cast<double>(), "start");
   return what;
 }
-
-}  // namespace
 
 std::string add_output_folder(Scene& scene, const std::string& path, SceneInputKind kind, const SceneLoadOptions& o,
                               SceneLoadReport& report) {
@@ -261,6 +261,9 @@ std::string add_output_folder(Scene& scene, const std::string& path, SceneInputK
       if (!snaps.empty()) parts.push_back(add_particle_files(scene, snaps, times));
       break;
     }
+    case SceneInputKind::KfSlamFolder:
+    case SceneInputKind::RbpfSlamFolder:
+      return add_filter_slam_folder(scene, path, kind);
     case SceneInputKind::NavRunFolder: {
       TrajectoryLayerOptions planned;
       planned.kind = LayerKind::Path;

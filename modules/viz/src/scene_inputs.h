@@ -1,6 +1,7 @@
 #pragma once
 // The loaders behind add_scene_input, one per kind of input (internal).
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,13 @@ std::string add_rawlog_file(Scene& scene, const std::string& path, const SceneLo
 std::string add_particle_files(Scene& scene, const std::vector<std::string>& paths,
                                const std::vector<double>& step_times);
 std::string add_steps_file(Scene& scene, const std::string& path, const SceneLoadOptions& o);
+/// The landmark map of rove kf-slam (landmarks.csv): means and 3-sigma ellipses or ellipsoids.
+std::string add_landmarks_file(Scene& scene, const std::string& path);
+/// `main` (a TUM file in `dir`) as the trajectory, `secondary` (if present) as a path beside it.
+std::string add_paths(Scene& scene, const std::filesystem::path& dir, const std::string& main, const char* secondary,
+                      Rgba8 secondary_color);
+/// The output folders of rove kf-slam and rove rbpf-slam.
+std::string add_filter_slam_folder(Scene& scene, const std::string& path, SceneInputKind kind);
 std::string add_output_folder(Scene& scene, const std::string& path, SceneInputKind kind, const SceneLoadOptions& o,
                               SceneLoadReport& report);
 

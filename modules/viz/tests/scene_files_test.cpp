@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "rove/core/error.h"
 #include "rove/core/files.h"
@@ -120,6 +121,105 @@ TEST_F(SceneFiles, PfLocalizationFolderTimesParticlesByTheirStep) {
   float max_x = 0;
   for (std::size_t i = 0; i < ellipses->positions.size() / 2; ++i) max_x = std::max(max_x, ellipses->positions[i].x());
   EXPECT_NEAR(max_x, 1.5f, 1e-4);
+}
+
+TEST_F(SceneFiles, KfSlamFolderGivesPathLandmarksAndTheirEllipses) {
+  std::vector<TimedPose2> path = {{Timestamp::from_seconds(5), Pose2(0, 0, 0)},
+                                  {Timestamp::from_seconds(6), Pose2(1, 0, 0)}};
+  write_tum_trajectory((dir_ / "path.tum").string(), path);
+  // A pf-localization folder also has steps.txt and path.tum: landmarks.csv tells them apart.
+  write("steps.txt", "# step time x y z qx qy qz qw\n");
+  write("landmarks.csv",
+        "index,id,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,observations,first_step,truth_id,error\n"
+        "0,7,2.0,1.0,0.0,0.25,0,0,0.04,0,0,3,0,7,0.01\n"
+        "1,9,-1.0,3.0,0.0,0.01,0,0,0.01,0,0,1,1,,\n");
+  EXPECT_EQ(detect_scene_input(dir_.string()), SceneInputKind::KfSlamFolder);
+  Scene s;
+  SceneLoadReport r;
+  add_scene_input(s, dir_.string(), {}, r);
+  EXPECT_NE(r.loaded[0].find("rove kf-slam output"), std::string::npos) << r.loaded[0];
+  EXPECT_NE(r.loaded[0].find("2 2D landmarks with their 3-sigma ellipses"), std::string::npos) << r.loaded[0];
+  EXPECT_EQ(vertices_of(s, LayerKind::Trajectory), 2u);
+  EXPECT_EQ(vertices_of(s, LayerKind::PointCloud), 2u);
+  EXPECT_EQ(vertices_of(s, LayerKind::Label), 3u);  // start, 7, 9
+  const Layer* ellipses = nullptr;
+  for (const auto& l : s.layers) {
+    if (l.kind == LayerKind::Covariance) ellipses = &l;
+  }
+  ASSERT_NE(ellipses, nullptr);
+  // Landmark 7: sigma 0.5 m by 0.2 m around (2, 1): 3-sigma reach x 0.5..3.5, y 0.4..1.6.
+  float max_x = -1e9f, max_y = -1e9f;
+  for (std::size_t i = 0; i < ellipses->positions.size() / 2; ++i) {
+    max_x = std::max(max_x, ellipses->positions[i].x());
+    max_y = std::max(max_y, ellipses->positions[i].y());
+  }
+  EXPECT_NEAR(max_x, 3.5f, 1e-4);
+  EXPECT_NEAR(max_y, 1.6f, 2e-3);  // the polygon's vertex nearest the axis
+}
+
+TEST_F(SceneFiles, ThreeDimensionalLandmarksGetEllipsoids) {
+  const std::string p = write("landmarks.csv",
+                              "index,id,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,observations\n"
+                              "0,1,0,0,1.5,0.01,0,0,0.01,0,0.04,2\n");
+  EXPECT_EQ(detect_scene_input(p), SceneInputKind::Landmarks);
+  Scene s;
+  SceneLoadReport r;
+  add_scene_input(s, p, {}, r);
+  EXPECT_NE(r.loaded[0].find("1 3D landmarks with their 3-sigma ellipsoids"), std::string::npos) << r.loaded[0];
+  float max_z = -1e9f;
+  for (const auto& l : s.layers) {
+    if (l.kind != LayerKind::Covariance) continue;
+    for (const auto& v : l.positions) max_z = std::max(max_z, v.z());
+  }
+  EXPECT_NEAR(max_z, 1.5f + 0.6f, 1e-4);  // 3 sigma of 0.2 m above the mean
+}
+
+TEST_F(SceneFiles, BadLandmarkFilesNameTheLineAndColumn) {
+  const std::string header = "index,id,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz\n";
+  const auto load_error = [&](const std::string& name, const std::string& text) -> std::optional<ParseError> {
+    Scene s;
+    SceneLoadReport r;
+    try {
+      add_scene_input(s, write(name, text), {}, r);
+    } catch (const ParseError& e) {
+      EXPECT_TRUE(s.layers.empty());
+      return e;
+    }
+    return std::nullopt;
+  };
+  auto e = load_error("nan.csv", header + "0,1,1,2,0,0.1,0,0,0.1,0,0\n1,2,nan,2,0,0.1,0,0,0.1,0,0\n");
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->location().line, 3u);
+  EXPECT_EQ(e->location().field, "x");
+  e = load_error("short.csv", header + "0,1,1,2\n");
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->location().line, 2u);
+  e = load_error("other.csv", "a,b,c\n1,2,3\n");
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->location().field, "header");
+  e = load_error("empty.csv", header);
+  ASSERT_TRUE(e);
+  e = load_error("notpsd.csv", header + "0,1,1,2,0,0.1,0.5,0,0.1,0,0\n");  // |cov_xy| > sqrt(xx·yy)
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->location().field, "covariance");
+}
+
+TEST_F(SceneFiles, RbpfSlamFolderGivesMapAndPaths) {
+  OccupancyGrid g(0.0f, 4.0f, 0.0f, 2.0f, 0.1f);
+  save_ros_map((dir_ / "map").string(), g);
+  std::vector<TimedPose2> path = {{Timestamp::from_seconds(1), Pose2(0, 0, 0)},
+                                  {Timestamp::from_seconds(2), Pose2(1, 0, 0)},
+                                  {Timestamp::from_seconds(3), Pose2(2, 0, 0)}};
+  for (const char* name : {"path.tum", "odometry.tum"}) write_tum_trajectory((dir_ / name).string(), path);
+  write("ess.csv", "update,ess\n0,1\n");
+  EXPECT_EQ(detect_scene_input(dir_.string()), SceneInputKind::RbpfSlamFolder);
+  Scene s;
+  SceneLoadReport r;
+  add_scene_input(s, dir_.string(), {}, r);
+  EXPECT_NE(r.loaded[0].find("rove rbpf-slam output"), std::string::npos) << r.loaded[0];
+  EXPECT_EQ(vertices_of(s, LayerKind::Grid), 4u);
+  EXPECT_EQ(vertices_of(s, LayerKind::Trajectory), 3u);
+  EXPECT_EQ(vertices_of(s, LayerKind::Path), 3u);
 }
 
 TEST_F(SceneFiles, BadParticleFileNamesTheLine) {

@@ -13,9 +13,12 @@
 ///    compressed): the 2D scans placed along the odometry path;
 ///  - particle files of `rove pf-localization` (`particles_*.txt`) and its
 ///    `steps.txt` (the estimate's covariance ellipses);
+///  - landmark maps of `rove kf-slam` (`landmarks.csv`: means and 3-sigma
+///    ellipses, or ellipsoids in 3D);
 ///  - output folders: `rove icp-slam` (keyframes.tum + map.simplemap),
 ///    `rove lidar-slam` (nodes.tum + graph.g2o), `rove pf-localization`
-///    (steps.txt), `rove nav run` (driven.tum + planned.tum).
+///    (steps.txt), `rove kf-slam` (landmarks.csv + path.tum), `rove rbpf-slam`
+///    (ess.csv + path.tum), `rove nav run` (driven.tum + planned.tum).
 
 #include <cstddef>
 #include <span>
@@ -29,8 +32,8 @@ namespace rove {
 
 /// What a path holds.
 enum class SceneInputKind : std::uint8_t {
-  Pcd, Ply, RosMap, Octree, TumTrajectory, KittiTrajectory, PoseGraph, Rawlog, Particles, PfSteps,
-  IcpSlamFolder, LidarSlamFolder, PfLocalizationFolder, NavRunFolder,
+  Pcd, Ply, RosMap, Octree, TumTrajectory, KittiTrajectory, PoseGraph, Rawlog, Particles, PfSteps, Landmarks,
+  IcpSlamFolder, LidarSlamFolder, PfLocalizationFolder, KfSlamFolder, RbpfSlamFolder, NavRunFolder,
 };
 
 /// "PCD point cloud", "ROS map", ..., "rove lidar-slam output", for messages.
