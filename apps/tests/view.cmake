@@ -72,3 +72,18 @@ add_test(NAME cli.view_screenshot COMMAND ${CMAKE_COMMAND}
 add_test(NAME cli.view_serve_interrupt COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/tests/view_serve.sh
   $<TARGET_FILE:rove> ${PROJECT_SOURCE_DIR} ${rove_view_dir}/serve)
 set_tests_properties(cli.view_screenshot cli.view_serve_interrupt PROPERTIES LABELS "cli;browser" TIMEOUT 120)
+
+# The output folders of rove kf-slam and rove rbpf-slam, as their tests
+# leave them: landmarks with their ellipsoids; the map with the path.
+add_test(NAME cli.view_kf_slam_folder COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> view ${rove_kfs_dir}/da --export ${rove_view_dir}/kf_slam.glb"
+  -DEXIT=0 "-DREGEX=da: rove kf-slam output, [0-9]+ poses \\(path\\.tum\\); landmarks 20 3D landmarks with their 3-sigma ellipsoids"
+  ${rove_view_expect})
+set_tests_properties(cli.kf_slam_6d_datassoc PROPERTIES FIXTURES_SETUP rove_kf_slam_out)
+add_test(NAME cli.view_rbpf_slam_folder COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> view ${rove_rbpf_dir}/telecom --export ${rove_view_dir}/rbpf_slam.glb"
+  -DEXIT=0 "-DREGEX=telecom: rove rbpf-slam output, map [0-9]+ x [0-9]+ cells of 0\\.07 m; [0-9]+ poses \\(path\\.tum\\), odometry\\.tum"
+  ${rove_view_expect})
+set_tests_properties(cli.rbpf_slam_telecom PROPERTIES FIXTURES_SETUP rove_rbpf_slam_out)
+set_tests_properties(cli.view_kf_slam_folder PROPERTIES LABELS cli FIXTURES_REQUIRED rove_kf_slam_out)
+set_tests_properties(cli.view_rbpf_slam_folder PROPERTIES LABELS cli FIXTURES_REQUIRED rove_rbpf_slam_out)
