@@ -77,7 +77,7 @@ set_tests_properties(cli.view_screenshot cli.view_serve_interrupt PROPERTIES LAB
 # leave them: landmarks with their ellipsoids; the map with the path.
 add_test(NAME cli.view_kf_slam_folder COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> view ${rove_kfs_dir}/da --export ${rove_view_dir}/kf_slam.glb"
-  -DEXIT=0 "-DREGEX=da: rove kf-slam output, [0-9]+ poses \\(path\\.tum\\); landmarks 20 3D landmarks with their 3-sigma ellipsoids"
+  -DEXIT=0 "-DREGEX=da: rove kf-slam output, [0-9]+ poses \\(path\\.tum\\); 20 3D landmarks with their 3-sigma ellipsoids"
   ${rove_view_expect})
 set_tests_properties(cli.kf_slam_6d_datassoc PROPERTIES FIXTURES_SETUP rove_kf_slam_out)
 add_test(NAME cli.view_rbpf_slam_folder COMMAND ${CMAKE_COMMAND}

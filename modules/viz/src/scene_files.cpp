@@ -36,7 +36,7 @@ const char* to_string(SceneInputKind kind) noexcept {
     case SceneInputKind::Rawlog: return "rawlog";
     case SceneInputKind::Particles: return "particle file";
     case SceneInputKind::PfSteps: return "pf-localization steps";
-    case SceneInputKind::Landmarks: return "kf-slam landmarks";
+    case SceneInputKind::Landmarks: return "landmark or beacon map";
     case SceneInputKind::IcpSlamFolder: return "rove icp-slam output";
     case SceneInputKind::LidarSlamFolder: return "rove lidar-slam output";
     case SceneInputKind::PfLocalizationFolder: return "rove pf-localization output";
@@ -238,7 +238,9 @@ std::string add_input_of_kind(Scene& scene, const std::string& path, SceneInputK
     case SceneInputKind::Rawlog: return detail::add_rawlog_file(scene, path, options);
     case SceneInputKind::Particles: return detail::add_particle_files(scene, {path}, {});
     case SceneInputKind::PfSteps: return detail::add_steps_file(scene, path, options);
-    case SceneInputKind::Landmarks: return detail::add_landmarks_file(scene, path);
+    case SceneInputKind::Landmarks:
+      return detail::add_landmarks_file(scene, path,
+                                        detail::ends_with_ci(path, "beacons.csv") ? "beacons" : "landmarks");
     default: return detail::add_output_folder(scene, path, kind, options, report);
   }
 }

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "rove/viz/scene_files.h"
@@ -27,8 +28,10 @@ std::string add_rawlog_file(Scene& scene, const std::string& path, const SceneLo
 std::string add_particle_files(Scene& scene, const std::vector<std::string>& paths,
                                const std::vector<double>& step_times);
 std::string add_steps_file(Scene& scene, const std::string& path, const SceneLoadOptions& o);
-/// The landmark map of rove kf-slam (landmarks.csv): means and 3-sigma ellipses or ellipsoids.
-std::string add_landmarks_file(Scene& scene, const std::string& path);
+/// The landmark map of rove kf-slam (landmarks.csv) or the beacon map of its
+/// range-only rbpf-slam (beacons.csv): means, ids and 3-sigma ellipses (or
+/// ellipsoids in 3D); `noun` names them in the report.
+std::string add_landmarks_file(Scene& scene, const std::string& path, std::string_view noun = "landmarks");
 /// `main` (a TUM file in `dir`) as the trajectory, `secondary` (if present) as a path beside it.
 std::string add_paths(Scene& scene, const std::filesystem::path& dir, const std::string& main, const char* secondary,
                       Rgba8 secondary_color);

@@ -194,7 +194,7 @@ TEST_F(SceneFiles, BadLandmarkFilesNameTheLineAndColumn) {
   e = load_error("short.csv", header + "0,1,1,2\n");
   ASSERT_TRUE(e);
   EXPECT_EQ(e->location().line, 2u);
-  e = load_error("other.csv", "a,b,c\n1,2,3\n");
+  e = load_error("other.csv", "id,x,y,z\n1,2,3,4\n");
   ASSERT_TRUE(e);
   EXPECT_EQ(e->location().field, "header");
   e = load_error("empty.csv", header);
@@ -202,6 +202,25 @@ TEST_F(SceneFiles, BadLandmarkFilesNameTheLineAndColumn) {
   e = load_error("notpsd.csv", header + "0,1,1,2,0,0.1,0.5,0,0.1,0,0\n");  // |cov_xy| > sqrt(xx·yy)
   ASSERT_TRUE(e);
   EXPECT_EQ(e->location().field, "covariance");
+}
+
+TEST_F(SceneFiles, RangeOnlyRbpfSlamFolderGivesBeacons) {
+  std::vector<TimedPose2> path = {{Timestamp::from_seconds(1), Pose2(0, 0, 0)},
+                                  {Timestamp::from_seconds(2), Pose2(1, 0, 0)}};
+  write_tum_trajectory((dir_ / "path.tum").string(), path);
+  write("ess.csv", "step,time,ess\n0,1,1\n");
+  write("beacons.csv",
+        "id,kind,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,components\n"
+        "3,gaussian,4.0,-2.0,0.0,0.04,0,0,0.01,0,0,1\n");
+  EXPECT_EQ(detect_scene_input(dir_.string()), SceneInputKind::RbpfSlamFolder);
+  Scene s;
+  SceneLoadReport r;
+  add_scene_input(s, dir_.string(), {}, r);
+  EXPECT_NE(r.loaded[0].find("; 1 2D beacons with their 3-sigma ellipses"), std::string::npos) << r.loaded[0];
+  EXPECT_EQ(vertices_of(s, LayerKind::PointCloud), 1u);
+  bool labelled = false;
+  for (const auto& l : s.layers) labelled = labelled || (l.kind == LayerKind::Label && l.text == "3");
+  EXPECT_TRUE(labelled);
 }
 
 TEST_F(SceneFiles, RbpfSlamFolderGivesMapAndPaths) {

@@ -13,12 +13,13 @@
 ///    compressed): the 2D scans placed along the odometry path;
 ///  - particle files of `rove pf-localization` (`particles_*.txt`) and its
 ///    `steps.txt` (the estimate's covariance ellipses);
-///  - landmark maps of `rove kf-slam` (`landmarks.csv`: means and 3-sigma
-///    ellipses, or ellipsoids in 3D);
+///  - landmark maps of `rove kf-slam` (`landmarks.csv`) and beacon maps of
+///    its range-only `rove rbpf-slam` (`beacons.csv`): means, ids and 3-sigma
+///    ellipses, or ellipsoids in 3D;
 ///  - output folders: `rove icp-slam` (keyframes.tum + map.simplemap),
 ///    `rove lidar-slam` (nodes.tum + graph.g2o), `rove pf-localization`
 ///    (steps.txt), `rove kf-slam` (landmarks.csv + path.tum), `rove rbpf-slam`
-///    (ess.csv + path.tum), `rove nav run` (driven.tum + planned.tum).
+///    (ess.csv + path.tum; map.yaml or beacons.csv), `rove nav run` (driven.tum + planned.tum).
 
 #include <cstddef>
 #include <span>
