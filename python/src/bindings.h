@@ -17,6 +17,8 @@
 #include <vector>
 
 #include "rove/core/error.h"
+#include "rove/core/ini.h"
+#include "rove/obs/timestamp.h"
 
 namespace rove::python {
 
@@ -76,6 +78,23 @@ Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> matrix_ar
 [[noreturn]] void type_error(const std::string& message);
 /// Raises ValueError with the message.
 [[noreturn]] void value_error(const std::string& message);
+
+/// An MRPT-style configuration: the file at `config` (None: empty) with
+/// `overrides` ({section: {key: value}}; bools as true/false, numbers by
+/// their shortest text) set over it. ValueError for an override that is not
+/// a dict of dicts.
+IniFile load_config(const std::optional<Path>& config, py::handle overrides);
+
+/// The rove issues of a result as a list of (code, message) tuples.
+template <typename Issues>
+py::list issue_list(const Issues& issues) {
+  py::list l;
+  for (const auto& i : issues) l.append(py::make_tuple(i.code, i.message));
+  return l;
+}
+
+/// Seconds of a timestamp, NaN when unknown.
+double seconds_of(Timestamp t);
 
 /// A per-step hook for the long runs, called from C++ with the GIL
 /// released: takes the GIL, lets Python signal handlers run (Ctrl-C raises

@@ -11,4 +11,7 @@ PYBIND11_MODULE(_rove, m) {
   rove::python::bind_grids(m);
   rove::python::bind_io(m);
   rove::python::bind_registration(m);
+  rove::python::bind_graph(m);
+  rove::python::bind_slam(m);
+  rove::python::bind_filters(m);
 }
