@@ -132,3 +132,17 @@ def test_rbpf_slam_equals_the_command_line(tmp_path):
     assert (r.map.size_x, r.map.size_y) == (cli["map_cells"]["x"], cli["map_cells"]["y"])
     cells = r.map.cells
     assert cells.__array_interface__["data"][0] == r.map._cells_address()
+
+
+def test_ctrl_c_stops_the_run():
+    import signal
+    seen = []
+
+    def cb(step):
+        seen.append(step["index"])
+        if len(seen) == 3:
+            signal.raise_signal(signal.SIGINT)  # as Ctrl-C in the terminal
+
+    with pytest.raises(KeyboardInterrupt):
+        rove.icp_slam(TELECOM, config=ICP_SLAM_INI, on_step=cb)
+    assert 3 <= len(seen) <= 4
