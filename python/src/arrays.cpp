@@ -45,6 +45,12 @@ py::array checked_array(py::handle obj, const char* name, py::ssize_t cols, cons
   value_error(fmt::format("argument '{}': row {} is not finite ({})", name, row, values));
 }
 
+// True for a native-byte-order floating-point dtype of `bytes` bytes (by
+// value: equal dtypes need not be the same object, e.g. after unpickling).
+bool is_native_float(const py::dtype& d, py::ssize_t bytes) {
+  return d.kind() == 'f' && d.itemsize() == bytes && d.attr("isnative").cast<bool>();
+}
+
 }  // namespace
 
 PointsArg points_arg(py::handle obj, const char* name, bool require_finite) {
@@ -58,10 +64,10 @@ PointsArg points_arg(py::handle obj, const char* name, bool require_finite) {
                                     "a numpy array of shape (N, 3) (float32 or float64) or a "
                                     "rove.PointCloud");
   const auto n = static_cast<std::size_t>(a.shape(0));
-  if (a.dtype().is(py::dtype::of<float>()) &&
+  if (is_native_float(a.dtype(), 4) &&
       reinterpret_cast<std::uintptr_t>(a.data()) % alignof(float) == 0) {
     out.points = {static_cast<const Eigen::Vector3f*>(a.data()), n};
-  } else if (a.dtype().is(py::dtype::of<double>())) {
+  } else if (is_native_float(a.dtype(), 8)) {
     const auto* d = static_cast<const double*>(a.data());
     out.converted.resize(n);
     for (std::size_t i = 0; i < n; ++i)

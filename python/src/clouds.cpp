@@ -137,6 +137,19 @@ void bind_clouds(py::module_& m) {
           py::arg("T"), "A new cloud with points (and normals) moved by T.")
       .def(
           "copy", [](const PointCloud& c) { return PointCloud(c); }, "An independent copy.")
+      .def(py::pickle(
+          [](py::object self) {  // copies of the arrays: the state must not share memory
+            const auto copy = [&](const char* name) -> py::object {
+              py::object a = self.attr(name);
+              return a.is_none() ? a : a.attr("copy")();
+            };
+            return py::make_tuple(copy("points"), copy("normals"), copy("colors"),
+                                  copy("intensities"));
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 4) value_error("PointCloud: pickled state of the wrong size");
+            return make_cloud(t[0], t[1], t[2], t[3]);
+          }))
       .def(
           "_points_address",
           [](PointCloud& c) { return reinterpret_cast<std::uintptr_t>(c.points_mut().data()); },

@@ -103,6 +103,23 @@ void bind_grids(py::module_& m) {
             return py::make_tuple(g.y_to_idx(y), g.x_to_idx(x));
           },
           py::arg("x"), py::arg("y"), "(row, column) of world point (x, y) (may be outside).")
+      .def(py::pickle(
+          [](const OccupancyGrid& g) {
+            const auto c = g.cells();
+            return py::make_tuple(g.x_min(), g.x_max(), g.y_min(), g.y_max(), g.resolution(),
+                                  g.size_x(), g.size_y(),
+                                  py::bytes(reinterpret_cast<const char*>(c.data()), c.size()));
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 8) value_error("OccupancyGrid: pickled state of the wrong size");
+            const std::string cells = t[7].cast<std::string>();
+            OccupancyGrid g;
+            g.assign(t[0].cast<float>(), t[1].cast<float>(), t[2].cast<float>(), t[3].cast<float>(),
+                     t[4].cast<float>(), t[5].cast<std::uint32_t>(), t[6].cast<std::uint32_t>(),
+                     std::vector<std::int8_t>(cells.begin(), cells.end()));
+            g.set_empty(false);
+            return g;
+          }))
       .def(
           "_cells_address",
           [](OccupancyGrid& g) { return reinterpret_cast<std::uintptr_t>(g.cells().data()); },

@@ -94,3 +94,16 @@ def test_bad_input():
         rove.align(good, good, threads=100000)
     with pytest.raises(TypeError):
         rove.align(good, good, init=np.eye(4))
+
+
+def test_concurrent_calls_give_the_serial_results():
+    # align releases the GIL: two threads run it at once on shared inputs.
+    from concurrent.futures import ThreadPoolExecutor
+    src, tgt = rove.read_pcd(ROOM2), rove.read_pcd(ROOM1)
+    init = rove.SE3(rove.SO3.rot_z(0.6931), [1.79387, 0.720047, 0.0])
+    serial = rove.align(src, tgt, method="ndt", voxel=0.2, init=init).T_target_source
+    with ThreadPoolExecutor(2) as pool:
+        futures = [pool.submit(rove.align, src, tgt, method="ndt", voxel=0.2, init=init)
+                   for _ in range(4)]
+        for f in futures:
+            np.testing.assert_array_equal(f.result().T_target_source, serial)

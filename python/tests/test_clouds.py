@@ -97,3 +97,22 @@ def test_voxel_downsample():
     d = rove.PointCloud(pts).voxel_downsample(1.0)
     assert len(d) == 2
     np.testing.assert_allclose(sorted(d.points[:, 0]), [0.015, 1.5], atol=1e-6)
+
+
+def test_pickle_round_trip():
+    import pickle
+    c = rove.PointCloud(np.arange(12, dtype=np.float32).reshape(4, 3),
+                        colors=np.full((4, 3), 7, dtype=np.uint8))
+    d = pickle.loads(pickle.dumps(c))
+    np.testing.assert_array_equal(d.points, c.points)
+    np.testing.assert_array_equal(d.colors, c.colors)
+    assert d.normals is None and d._points_address() != c._points_address()
+
+
+def test_unpickled_float32_array_is_read_in_place():
+    # Regression: an unpickled array's dtype equals float32 without being the
+    # same dtype object; it was refused as "not float32".
+    import pickle
+    a = pickle.loads(pickle.dumps(np.ones((5, 3), dtype=np.float32)))
+    assert rove._points_address(a) == address(a)
+    assert len(rove.PointCloud(a)) == 5

@@ -62,3 +62,12 @@ def test_bad_grids():
         rove.OccupancyGrid.from_free_probability([[0.5]], 0.0, 0.0, 0.1)
     with pytest.raises(ValueError, match="mode"):
         rove.save_ros_map("/tmp/x", rove.OccupancyGrid(), mode="raw")
+
+
+def test_pickle_round_trip():
+    import pickle
+    p = np.linspace(0, 1, 12).reshape(3, 4)
+    g = rove.OccupancyGrid.from_free_probability(p, x_min=-1.0, y_min=2.0, resolution=0.25)
+    h = pickle.loads(pickle.dumps(g))
+    assert (h.shape, h.x_min, h.y_max, h.resolution) == (g.shape, g.x_min, g.y_max, g.resolution)
+    np.testing.assert_array_equal(h.cells, g.cells)
