@@ -2,7 +2,8 @@
 # `rove rbpf-slam` against MRPT 2.5.8's `rbpf-slam` (Debian mrpt-apps) on the
 # bundled Telecom loop (224 scans) with MRPT's gridmapping_optimal_sampling.ini
 # (25 particles, optimal sampling, 0.07 m grid), side by side in one run,
-# interleaved: whole-process wall time, CPU time and peak RSS
+# interleaved: whole-process wall time, CPU time and peak RSS, rove with its
+# default threads (every hardware thread) and with one,
 # (/usr/bin/time -v). MRPT runs its config with only
 # SHOW_PROGRESS_IN_WINDOW=0 (no display here) and its logs in the work
 # folder ("as shipped"), and once more with its periodic logs and images off
@@ -42,14 +43,19 @@ for i in $(seq "$runs"); do
   /usr/bin/time -v "$rove" rbpf-slam --no-progress --json --seed "$i" "$ini" "$rawlog" -o "$work/rove" \
     > "$work/rove.json" 2> "$work/rove.time"
   row="$row $(wall "$work/rove.time") $(cpu "$work/rove.time") $(rss "$work/rove.time")"
+  /usr/bin/time -v "$rove" rbpf-slam --no-progress --json --threads 1 --seed "$i" "$ini" "$rawlog" \
+    -o "$work/rove1" > "$work/rove1.json" 2> "$work/rove1.time"
+  row="$row $(wall "$work/rove1.time") $(cpu "$work/rove1.time") $(rss "$work/rove1.time")"
   echo "$row" >> "$work/times"
 done
 col() { awk -v c="$1" '{print $c}' "$work/times" | median; }
 msw=$(col 1); msc=$(col 2); msr=$(col 3); mqw=$(col 4); mqc=$(col 5); mqr=$(col 6)
-rw=$(col 7); rc=$(col 8); rr=$(col 9)
-echo "== Telecom loop, gridmapping_optimal_sampling.ini (median of $runs interleaved runs) =="
+rw=$(col 7); rc=$(col 8); rr=$(col 9); r1w=$(col 10); r1c=$(col 11)
+echo "== Telecom loop, gridmapping_optimal_sampling.ini (median of $runs interleaved runs; rove with its default threads, all hardware threads, and with --threads 1) =="
 printf "  whole process wall : MRPT as shipped %.2f s, quiet %.2f s   rove %.3f s   speed-up %.1fx / %.1fx\n" \
   "$msw" "$mqw" "$rw" "$(echo "$msw / $rw" | bc -l)" "$(echo "$mqw / $rw" | bc -l)"
+printf "  rove --threads 1   : wall %.3f s (speed-up %.1fx / %.1fx), CPU %.3f s\n" \
+  "$r1w" "$(echo "$msw / $r1w" | bc -l)" "$(echo "$mqw / $r1w" | bc -l)" "$r1c"
 printf "  whole process CPU  : MRPT as shipped %.2f s, quiet %.2f s   rove %.3f s   ratio %.1fx / %.1fx\n" \
   "$msc" "$mqc" "$rc" "$(echo "$msc / $rc" | bc -l)" "$(echo "$mqc / $rc" | bc -l)"
 printf "  peak RSS           : MRPT as shipped %d MB, quiet %d MB   rove %d MB   ratio %.1fx / %.1fx\n" \

@@ -27,7 +27,7 @@ struct RbpfSlamCliOptions {
   bool json = false;                        ///< --json
   bool progress = true;                     ///< !--no-progress
   std::uint64_t seed = 0;                   ///< --seed
-  int threads = 1;                          ///< --threads
+  int threads = 0;                          ///< --threads (all hardware threads)
   std::optional<std::uint64_t> max_steps;   ///< --max-steps
   std::optional<std::uint32_t> particles;   ///< --particles
   std::string reference;                    ///< --reference (grids)

@@ -194,6 +194,42 @@ TEST(TiledGrid, LikelihoodEqualsFlatModel) {
   EXPECT_THROW(TiledLikelihoodField(kRes, other), InvalidArgument);
 }
 
+// log_likelihood_above: the exact value unless it may stop, and when it
+// stops, an upper bound of the exact value below the floor asked for.
+TEST(TiledGrid, LikelihoodAboveAFloorStopsOnlyBelowIt) {
+  std::mt19937_64 rng(11);
+  GridInsertionOptions ins;
+  TiledGrid tiled(kRes);
+  for (const SE2d& p : poses()) insert_scan(tiled, room_scan(p, rng), p, ins);
+  GridLikelihoodOptions lo;
+  lo.lf_max_corrs_distance = 0.3f;
+  lo.lf_std_hit = 0.05f;
+  const TiledLikelihoodField field(kRes, lo, ins);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int stopped = 0;
+  for (int i = 0; i < 200; ++i) {
+    const SE2d pose(kOff + 0.5 + u(rng), kOff + 1.0 + u(rng), 3.0 * u(rng));
+    const TiledScanPoints pts = field.prepare(room_scan(pose, rng));
+    // Far from the pose half of the time: most points miss the walls.
+    const double off = i % 2 == 0 ? 0.02 : 0.6;
+    const SE2d guess(pose.translation().x() + off * u(rng), pose.translation().y() + off * u(rng),
+                     pose.angle() + off * u(rng));
+    const double exact = field.log_likelihood(tiled, pts, guess);
+    for (const double floor : {-std::numeric_limits<double>::infinity(), exact - 1.0}) {
+      ASSERT_EQ(field.log_likelihood_above(tiled, pts, guess, floor), exact) << i;
+    }
+    for (const double margin : {0.5, 5.0, 50.0}) {
+      const double got = field.log_likelihood_above(tiled, pts, guess, exact + margin);
+      if (got != exact) {
+        ++stopped;
+        ASSERT_GE(got, exact - 1e-9) << i;
+        ASSERT_LT(got, exact + margin) << i;
+      }
+    }
+  }
+  EXPECT_GT(stopped, 50);
+}
+
 TEST(TiledGrid, CopiesShareTilesAndWritesNeverLeak) {
   std::mt19937_64 rng(11);
   TiledGrid a(kRes);

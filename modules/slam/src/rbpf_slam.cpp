@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <utility>
 
@@ -50,10 +51,11 @@ struct Proposal {
 };
 
 /// Hill climbing on f from `start`: steps of `step` per axis, halved four
-/// times (the scan matcher of Grisetti et al. 2007, §IV).
+/// times (the scan matcher of Grisetti et al. 2007, §IV). f(v, floor) may
+/// return any value ≤ floor once it knows f(v) is below floor.
 template <typename F>
 Vec3 climb(const F& f, Vec3 start, Vec3 step) {
-  double best = f(start);
+  double best = f(start, -std::numeric_limits<double>::infinity());
   for (int level = 0; level < 4; ++level, step *= 0.5) {
     for (int it = 0; it < 16; ++it) {
       bool improved = false;
@@ -61,7 +63,7 @@ Vec3 climb(const F& f, Vec3 start, Vec3 step) {
         for (const double sign : {1.0, -1.0}) {
           Vec3 v = start;
           v[axis] += sign * step[axis];
-          const double fv = f(v);
+          const double fv = f(v, best);
           if (fv > best) {
             best = fv;
             start = v;
@@ -101,8 +103,11 @@ Gaussian3 weighted_gaussian(const std::vector<Vec3>& v, const std::vector<double
 }
 
 Proposal propose_optimal(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
-  const auto target = [&](const Vec3& v) {
-    return c.field.log_likelihood(p.map, c.points, apply_increment(p.pose, v)) + c.prior.log_density(v);
+  // log p(z | x, m) + log p(x | x', u), or a value ≤ floor once it is
+  // sure to be below floor (the likelihood field stops early).
+  const auto target = [&](const Vec3& v, double floor) {
+    const double prior = c.prior.log_density(v);
+    return c.field.log_likelihood_above(p.map, c.points, apply_increment(p.pose, v), floor - prior) + prior;
   };
   const Vec3 mode = climb(target, c.prior.mean, 2.0 * c.match_std);
   const Mat3 floor = diag_sq(0.25 * c.match_std);
@@ -118,12 +123,19 @@ Proposal propose_optimal(const RbpfParticle& p, const UpdateContext& c, Rng& rng
   std::vector<double> lw;
   v.reserve(k_max);
   lw.reserve(k_max);
+  // A sample whose weight is sure to be below e^-kNegligible times the
+  // largest so far is not evaluated to the end (the likelihood field stops
+  // early): it keeps the upper bound, a relative error of η below
+  // e^-kNegligible per such sample.
+  constexpr double kNegligible = 40.0;
+  double max_lw = -std::numeric_limits<double>::infinity();
   while (v.size() < k_max) {
     for (std::size_t j = 0; j < kRound; ++j) {
       const Vec3 x = j < kRound / 2 ? around.sample(rng) : c.prior.sample(rng);
       const double lq = std::log(0.5) + log_add(around.log_density(x), c.prior.log_density(x));
       v.push_back(x);
-      lw.push_back(target(x) - lq);
+      lw.push_back(target(x, max_lw - kNegligible + lq) - lq);
+      max_lw = std::max(max_lw, lw.back());
     }
     if (summarize_log_weights(lw).effective_sample_size >= kTargetEss) break;
   }

@@ -263,6 +263,14 @@ class TiledLikelihoodField {
   /// Precondition (InvalidArgument): grid.resolution() is this model's.
   double log_likelihood(const TiledGrid& grid, const TiledScanPoints& scan,
                         const SE2d& T_map_robot) const;
+  /// As log_likelihood, but gives up once the result is sure to be below
+  /// `stop_below` (the points left could not lift it there even at the
+  /// best value a point can have): then returns that upper bound, which is
+  /// ≥ the log-likelihood and < stop_below. The same value as
+  /// log_likelihood otherwise. With LF_alternateAverageMethod (a log of a
+  /// mean, no running bound) it never stops early.
+  double log_likelihood_above(const TiledGrid& grid, const TiledScanPoints& scan,
+                              const SE2d& T_map_robot, double stop_below) const;
   /// Fraction of the prepared points within LF_maxCorrsDistance of an
   /// occupied cell with the robot at T_map_robot (1 for no points).
   double fit(const TiledGrid& grid, const TiledScanPoints& scan, const SE2d& T_map_robot) const;
@@ -272,6 +280,9 @@ class TiledLikelihoodField {
   int radius_cells() const noexcept { return radius_; }
 
  private:
+  // Sum of the points' values, or its upper bound once below stop_below.
+  double point_sum(const TiledGrid& grid, const TiledScanPoints& scan, const SE2d& T_map_robot,
+                   double stop_below) const;
   float resolution_;
   GridLikelihoodOptions options_;
   GridInsertionOptions insertion_;
@@ -279,6 +290,7 @@ class TiledLikelihoodField {
   std::uint32_t cap_cells_ = 0;     // d² (cells²) at or above which the value is capped
   std::vector<double> value_;       // per d² < cap_cells_
   double capped_ = 0.0;
+  double best_value_ = 0.0;          // the largest value a point can have (d = 0)
 };
 
 }  // namespace rove
