@@ -19,6 +19,7 @@
 #include "rove/poses/lie_conversion.h"
 #include "rove/slam/ekf_slam.h"
 #include "kf_slam_truth.h"
+#include "rawlog_steps.h"
 
 namespace rove {
 namespace {
@@ -279,18 +280,11 @@ template <int Dim>
 void run(const KfSlamConfig& config, const std::string& rawlog_path,
          const KfSlamRunOptions& options, const KfSlamTruth& truth, KfSlamResult& res) {
   Runner<Dim> runner(config, options, truth, rawlog_path, res);
-  AnyRawlogReader reader(rawlog_path, options.reader);
-  res.format = reader.format();
-  Stopwatch read_sw;
-  for (;;) {
-    read_sw.reset();
-    const std::uint64_t at = reader.position();
-    std::optional<RawlogEntry> entry = reader.next();
-    res.read_seconds += read_sw.elapsed();
-    if (!entry) break;
-    ++res.entries;
-    if (!runner.feed(*entry, at)) break;
-  }
+  const detail::LogRead read = detail::read_entries(
+      rawlog_path, options.reader, [&](const RawlogEntry& e, std::uint64_t at) { return runner.feed(e, at); });
+  res.format = read.format;
+  res.entries = read.entries;
+  res.read_seconds = read.seconds;
   if (runner.step_count() > 0 && config.rawlog_offset >= runner.step_count()) {
     throw ConfigError(config.source, "MappingApplication", "rawlog_offset",
                       fmt::format("rawlog_offset {} skips every step of {}: it has {} steps",

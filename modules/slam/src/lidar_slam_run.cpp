@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "log_counts.h"
+#include "rawlog_steps.h"
 #include "rove/core/check.h"
 #include "rove/core/error.h"
 #include "rove/core/interrupt.h"
@@ -141,33 +142,28 @@ std::vector<LidarSlamIssue> run_issues(const LidarSlam& slam, const LidarSlamRun
 LidarSlamRunResult run_lidar_slam(LidarSlam& slam, const std::string& path,
                                   const LidarSlamRunOptions& options) {
   LidarSlamRunResult res;
-  AnyRawlogReader reader(path, options.reader);
-  res.format = reader.format();
   ScanFeeder feeder(slam, path, options, res);
   std::map<std::string, std::uint64_t> classes;
-  Stopwatch read_sw;
-  for (bool go_on = true; go_on;) {
-    throw_if_interrupted();
-    read_sw.reset();
-    const std::uint64_t at = reader.position();
-    std::optional<RawlogEntry> entry = reader.next();
-    res.read_seconds += read_sw.elapsed();
-    if (!entry) break;
-    ++res.entries;
-    if (auto* ac = std::get_if<std::shared_ptr<const ActionCollection>>(&*entry)) {
+  const detail::LogRead read = detail::read_entries(path, options.reader, [&](const RawlogEntry& entry, std::uint64_t at) {
+    if (auto* ac = std::get_if<std::shared_ptr<const ActionCollection>>(&entry)) {
       ++classes["ActionCollection"];
       if (const auto best = best_movement_2d(**ac)) feeder.add_motion(to_se2(best->mean()));
-    } else if (auto* sf = std::get_if<std::shared_ptr<const SensoryFrame>>(&*entry)) {
+      return true;
+    }
+    if (auto* sf = std::get_if<std::shared_ptr<const SensoryFrame>>(&entry)) {
       for (const auto& o : (*sf)->observations) {
         ++classes[std::string(o->class_name())];
-        if (!(go_on = feeder.observe(o, at))) break;
+        if (!feeder.observe(o, at)) return false;
       }
-    } else {
-      const auto& o = std::get<std::shared_ptr<const Observation>>(*entry);
-      ++classes[std::string(o->class_name())];
-      go_on = feeder.observe(o, at);
+      return true;
     }
-  }
+    const auto& o = std::get<std::shared_ptr<const Observation>>(entry);
+    ++classes[std::string(o->class_name())];
+    return feeder.observe(o, at);
+  });
+  res.format = read.format;
+  res.entries = read.entries;
+  res.read_seconds = read.seconds;
   const auto& f = slam.options().frontend.scan;
   if (feeder.scans() == 0) {
     throw SelectionError("", fmt::format("{} holds no 2D scan{} for lidar SLAM ({} entries: {}); "

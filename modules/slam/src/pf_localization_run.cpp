@@ -287,24 +287,16 @@ PfLocalizationResult run_pf_localization(PfLocalizationConfig config,
                   "ground_truth_path_file");
   }
 
-  AnyRawlogReader reader(rawlog_path, options.reader);
-  res.format = reader.format();
   MonteCarloLocalization mcl(*map, o);
   mcl.initialize();
   res.snapshots.push_back({std::nullopt, "initial", mcl.particles()});
   res.peak_particles = mcl.particles().size();
   Runner runner(res, mcl, config, options, truth, rawlog_path);
-  Stopwatch read_sw;
-  for (;;) {
-    throw_if_interrupted();
-    read_sw.reset();
-    const std::uint64_t at = reader.position();
-    std::optional<RawlogEntry> entry = reader.next();
-    res.read_seconds += read_sw.elapsed();
-    if (!entry) break;
-    ++res.entries;
-    if (!runner.feed(*entry, at)) break;
-  }
+  const detail::LogRead read = detail::read_entries(
+      rawlog_path, options.reader, [&](const RawlogEntry& e, std::uint64_t at) { return runner.feed(e, at); });
+  res.format = read.format;
+  res.entries = read.entries;
+  res.read_seconds = read.seconds;
   if (res.steps.empty()) {
     if (runner.step_count() > 0 && config.rawlog_offset >= runner.step_count()) {
       throw SelectionError("rawlog_offset",

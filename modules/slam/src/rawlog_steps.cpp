@@ -3,6 +3,8 @@
 #include <utility>
 #include <variant>
 
+#include "rove/core/interrupt.h"
+#include "rove/core/timer.h"
 #include "rove/obs/odometry_observation.h"
 
 namespace rove::detail {
@@ -57,6 +59,25 @@ std::optional<RawlogStep> RawlogStepAssembler::feed(const RawlogEntry& entry) {
   step.frame.add(obs);
   step.time = obs->timestamp;
   return step;
+}
+
+LogRead read_entries(const std::string& path, const AnyRawlogOptions& options,
+                     const std::function<bool(const RawlogEntry&, std::uint64_t)>& feed) {
+  LogRead out;
+  AnyRawlogReader reader(path, options);
+  out.format = reader.format();
+  Stopwatch sw;
+  for (;;) {
+    throw_if_interrupted();
+    sw.reset();
+    const std::uint64_t at = reader.position();
+    std::optional<RawlogEntry> entry = reader.next();
+    out.seconds += sw.elapsed();
+    if (!entry) break;
+    ++out.entries;
+    if (!feed(*entry, at)) break;
+  }
+  return out;
 }
 
 }  // namespace rove::detail

@@ -8,9 +8,13 @@
 // odometry increment since the previous step, with a Gaussian model (MRPT's
 // [DummyOdometryParams]). Shared by pf-localization and rbpf-slam.
 
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 
+#include "rove/io/any_rawlog.h"
 #include "rove/io/rawlog_reader.h"
 #include "rove/obs/action_collection.h"
 #include "rove/obs/motion_model_options.h"
@@ -45,5 +49,19 @@ class RawlogStepAssembler {
   std::shared_ptr<const ActionCollection> pending_;
   std::optional<Pose2> last_odometry_reading_, latest_odometry_reading_;
 };
+
+/// What reading a log took.
+struct LogRead {
+  RawlogFormat format = RawlogFormat::Mrpt;
+  std::uint64_t entries = 0;  ///< entries read
+  double seconds = 0.0;       ///< time spent reading them
+};
+
+/// Reads the log at `path` (any format AnyRawlogReader knows) entry by
+/// entry, calling feed(entry, its byte offset) until feed returns false or
+/// the log ends, and polling rove::throw_if_interrupted() before each entry.
+/// Throws IoError / ParseError from the reader.
+LogRead read_entries(const std::string& path, const AnyRawlogOptions& options,
+                     const std::function<bool(const RawlogEntry&, std::uint64_t)>& feed);
 
 }  // namespace rove::detail

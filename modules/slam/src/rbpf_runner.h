@@ -198,35 +198,16 @@ std::vector<RbpfSlamIssue> filter_issues(const std::vector<Step>& steps, std::si
   return out;
 }
 
-/// What reading a log took.
-struct RbpfLogRead {
-  RawlogFormat format = RawlogFormat::Mrpt;
-  std::uint64_t entries = 0;
-  double seconds = 0.0;  // reading alone
-};
-
 /// Reads the log at `path` through `runner` (an RbpfRunner writing `steps`
 /// and `counts`), polling rove::throw_if_interrupted() once per entry.
 /// Throws SelectionError when rawlog_offset skips every step, or when no
 /// processed step held the filter's observation (`what` names it).
 template <typename Runner, typename Steps>
-RbpfLogRead read_log(Runner& runner, const std::string& path, const AnyRawlogOptions& options,
+LogRead read_log(Runner& runner, const std::string& path, const AnyRawlogOptions& options,
                      const RbpfSlamConfig& config, const RbpfRunCounts& counts, const Steps& steps,
                      const char* what) {
-  RbpfLogRead out;
-  AnyRawlogReader reader(path, options);
-  out.format = reader.format();
-  Stopwatch sw;
-  for (;;) {
-    throw_if_interrupted();
-    sw.reset();
-    const std::uint64_t at = reader.position();
-    std::optional<RawlogEntry> entry = reader.next();
-    out.seconds += sw.elapsed();
-    if (!entry) break;
-    ++out.entries;
-    if (!runner.feed(*entry, at)) break;
-  }
+  const LogRead out =
+      read_entries(path, options, [&](const RawlogEntry& e, std::uint64_t at) { return runner.feed(e, at); });
   if (steps.empty() && runner.step_count() > 0 && config.rawlog_offset >= runner.step_count()) {
     throw SelectionError("rawlog_offset",
                          fmt::format("rawlog_offset {} skips every step of {}: it has {} steps",
@@ -253,7 +234,7 @@ Options with_run_options(Options o, const RbpfSlamRunOptions& run) {
 /// recording its steps; `also(step)` is called after each step before the
 /// run options' on_step.
 template <typename Obs, typename Step, bool Step::*kObserved, typename Filter>
-RbpfLogRead run_filter_over_log(Filter& filter, const RbpfSlamConfig& config,
+LogRead run_filter_over_log(Filter& filter, const RbpfSlamConfig& config,
                                 const RbpfSlamRunOptions& options, const std::string& rawlog,
                                 std::vector<Step>& steps, RbpfRunCounts& counts, const char* what,
                                 const std::function<void(const Step&)>& also = {}) {
@@ -269,7 +250,7 @@ RbpfLogRead run_filter_over_log(Filter& filter, const RbpfSlamConfig& config,
 /// Fills what `totals` takes from the log's reading, the runner's counts
 /// and the filter's most likely particle, whose path `nodes` are.
 template <typename Filter, typename Step>
-void fill_totals(RbpfRunTotals& totals, const RbpfLogRead& read, const RbpfRunCounts& counts,
+void fill_totals(RbpfRunTotals& totals, const LogRead& read, const RbpfRunCounts& counts,
                  const Filter& filter, const std::vector<Step>& steps,
                  const std::vector<RbpfPathNode>& nodes) {
   totals.format = read.format;

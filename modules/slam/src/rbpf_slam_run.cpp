@@ -57,7 +57,7 @@ RbpfSlamResult run_rbpf_slam(const RbpfSlamConfig& config, const std::string& ra
   res.options = detail::with_run_options(config.options, options);
   RbpfSlam slam(res.options);
   detail::RbpfRunCounts counts;
-  const detail::RbpfLogRead read = detail::run_filter_over_log<RangeScan2D, RbpfSlamStep, &RbpfSlamStep::scan>(
+  const detail::LogRead read = detail::run_filter_over_log<RangeScan2D, RbpfSlamStep, &RbpfSlamStep::scan>(
       slam, config, options, rawlog_path, res.steps, counts, "2D laser scan", [&](const RbpfSlamStep& s) {
         if (s.updated) res.peak_tiles = std::max(res.peak_tiles, s.update.distinct_tiles);
       });

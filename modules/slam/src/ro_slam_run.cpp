@@ -47,7 +47,7 @@ RoSlamResult run_ro_slam(const RbpfSlamConfig& config, const std::string& rawlog
   res.options = detail::with_run_options(config.beacons, options);
   RoSlam slam(res.options);
   detail::RbpfRunCounts counts;
-  const detail::RbpfLogRead read = detail::run_filter_over_log<BeaconRanges, RoSlamStep, &RoSlamStep::ranges>(
+  const detail::LogRead read = detail::run_filter_over_log<BeaconRanges, RoSlamStep, &RoSlamStep::ranges>(
       slam, config, options, rawlog_path, res.steps, counts, "beacon ranges");
   res.observations = counts.observations;
   const RoSlamParticle& best = slam.particles()[slam.best()];
