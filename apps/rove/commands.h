@@ -18,6 +18,9 @@ void add_icp_slam_command(CLI::App& app);
 /// `rove lidar-slam [CONFIG] LOG [-o DIR] [--json]`: 2D lidar SLAM with loop
 /// closure.
 void add_lidar_slam_command(CLI::App& app);
+/// `rove rgbd-slam INPUT [--config rgbd.ini] [-o DIR] [--json]`: RGB-D SLAM over
+/// a TUM, ICL-NUIM or numbered-frames folder (only when rove::vision is built).
+void add_rgbd_slam_command(CLI::App& app);
 /// `rove pf-localization [CONFIG] [RAWLOG] [-o DIR] [--seed N] [--json]`:
 /// Monte-Carlo localization in a known map from an MRPT pf-localization config.
 void add_pf_localization_command(CLI::App& app);

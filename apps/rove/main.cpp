@@ -108,6 +108,9 @@ int main(int argc, char** argv) {
   rove::cli::add_rawlog_command(app);
   rove::cli::add_icp_slam_command(app);
   rove::cli::add_lidar_slam_command(app);
+#ifdef ROVE_HAVE_RGBD_SLAM
+  rove::cli::add_rgbd_slam_command(app);
+#endif
   rove::cli::add_pf_localization_command(app);
   rove::cli::add_kf_slam_command(app);
   rove::cli::add_rbpf_slam_command(app);
