@@ -12,7 +12,7 @@ set(rove_view_graph ${PROJECT_SOURCE_DIR}/data/posegraph/w100.graph)
 add_test(NAME cli.view_export COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> view ${rove_view_pc}/bunny.pcd ${rove_view_graph} --export ${rove_view_dir}/scene.glb --html ${rove_view_dir}/scene.html"
   -DEXIT=0
-  "-DREGEX=bunny\\.pcd: PCD point cloud, 397 points\n[^\n]*w100\\.graph: pose graph, 2D, 60 vertices, 240 edges \\(28 loop closures\\)\nscene: 4 layers, 937 vertices.*wrote [^\n]*scene\\.glb\nwrote [^\n]*scene\\.html"
+  "-DREGEX=bunny\\.pcd: PCD point cloud, 397 points\n[^\n]*w100\\.graph: pose graph, 2D, 60 vertices, 240 edges \\(12 loop closures by 28 edges\\)\nscene: 4 layers, 597 vertices.*wrote [^\n]*scene\\.glb\nwrote [^\n]*scene\\.html"
   -DFILE=${rove_view_dir}/scene.html "-DFILE_REGEX=<title>rove view: loading</title>.*GLTFLoader.*roveView\\({base64: "
   ${rove_view_expect})
 set_tests_properties(cli.view_export PROPERTIES LABELS cli)
@@ -87,3 +87,17 @@ add_test(NAME cli.view_rbpf_slam_folder COMMAND ${CMAKE_COMMAND}
 set_tests_properties(cli.rbpf_slam_telecom PROPERTIES FIXTURES_SETUP rove_rbpf_slam_out)
 set_tests_properties(cli.view_kf_slam_folder PROPERTIES LABELS cli FIXTURES_REQUIRED rove_kf_slam_out)
 set_tests_properties(cli.view_rbpf_slam_folder PROPERTIES LABELS cli FIXTURES_REQUIRED rove_rbpf_slam_out)
+
+# The output folder of rove rgbd-slam, as its test on 60 frames of TUM
+# fr1/rpy leaves it: the coloured map, the pose graph with each loop once,
+# the trajectory, the keyframes and the loop checks (label datasets).
+if(TARGET rove::vision)
+  add_test(NAME cli.view_rgbd_slam_folder COMMAND ${CMAKE_COMMAND}
+    "-DCOMMAND=$<TARGET_FILE:rove> view ${rove_rg_dir}/fr1 --export ${rove_view_dir}/rgbd_slam.glb"
+    -DEXIT=0
+    "-DREGEX=fr1: rove rgbd-slam output, map [1-9][0-9]+ points; graph 3D, [1-9][0-9]* vertices, [1-9][0-9]* edges \\([1-9][0-9]* loop closures by [1-9][0-9]* edges\\); 60 poses \\(trajectory\\.tum\\); [1-9][0-9]* keyframes; loops\\.csv: [1-9][0-9]* of [1-9][0-9]* loop checks accepted \\(nearby [0-9]+.*wrote [^\n]*rgbd_slam\\.glb"
+    ${rove_view_expect})
+  set_tests_properties(cli.rgbd_slam_fr1 PROPERTIES FIXTURES_SETUP rove_rgbd_slam_out)
+  set_tests_properties(cli.view_rgbd_slam_folder PROPERTIES LABELS cli FIXTURES_REQUIRED rove_rgbd_slam_out)
+  rove_dataset_tests(cli.view_rgbd_slam_folder)
+endif()

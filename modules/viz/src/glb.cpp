@@ -144,6 +144,13 @@ std::string layer_extras(const Layer& l, std::size_t index) {
   j.key("permutation_step").value(std::uint64_t{l.permutation_step});
   j.key("color").begin_array().value(l.color.r).value(l.color.g).value(l.color.b).value(l.color.a).end_array();
   if (!l.text.empty()) j.key("text").value(l.text);
+  if (l.grid) {
+    j.key("grid").begin_object();
+    j.key("x_min").value(l.grid->x_min).key("y_min").value(l.grid->y_min).key("resolution").value(l.grid->resolution);
+    j.key("size_x").value(std::uint64_t{l.grid->size_x}).key("size_y").value(std::uint64_t{l.grid->size_y});
+    j.key("cells_per_texel").value(std::uint64_t{l.grid->cells_per_texel});
+    j.end_object();
+  }
   j.end_object().end_object();
   return j.str();
 }
@@ -172,7 +179,7 @@ void raw_array(JsonWriter& j, const char* key, const std::vector<std::string>& i
 std::string scene_extras(const Scene& scene) {
   JsonWriter j(0);
   j.begin_object().key("rove").begin_object();
-  j.key("title").value(scene.title).key("up").value("z");
+  j.key("title").value(scene.title).key("up").value(to_string(scene.up));
   j.key("time_origin").value(scene.time_origin);  // null when unset
   j.key("sources").value(scene.sources);
   j.key("layers").value(std::uint64_t{scene.layers.size()});
@@ -207,11 +214,14 @@ std::vector<std::uint8_t> write_glb_to_memory(const Scene& scene) {
     throw ResourceError(fmt::format("scene of {} bytes does not fit a .glb (at most 4 GiB)", b.bin_.size()));
   }
   while (b.bin_.size() % 4 != 0) b.bin_.push_back(0);
-  // The root turns z up into glTF's y up: a rotation of −90° about x.
-  const std::string root = fmt::format(
-      "{{\"name\":\"rove world (z up)\",\"rotation\":[-0.7071067811865476,0,0,0.7071067811865476],"
-      "\"children\":[{}]}}",
-      children);
+  // The root turns the scene's up into glTF's y up: z up by a rotation of
+  // −90° about x; −y up (a camera's optical frame) by 180° about x, which
+  // also turns the camera's forward z into glTF's −z, the view direction
+  // of a viewer standing behind it.
+  const bool optical = scene.up == SceneUp::MinusY;
+  const std::string root = fmt::format("{{\"name\":\"rove world ({} up)\",\"rotation\":[{}],\"children\":[{}]}}",
+                                       to_string(scene.up),
+                                       optical ? "1,0,0,0" : "-0.7071067811865476,0,0,0.7071067811865476", children);
   nodes.insert(nodes.begin(), root);
   JsonWriter j(0);
   j.begin_object();

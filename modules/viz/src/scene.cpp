@@ -27,6 +27,14 @@ const char* to_string(LayerKind kind) noexcept {
   return "unknown";
 }
 
+const char* to_string(SceneUp up) noexcept {
+  switch (up) {
+    case SceneUp::PlusZ: return "z";
+    case SceneUp::MinusY: return "-y";
+  }
+  return "unknown";
+}
+
 std::uint64_t Layer::source_index(std::uint64_t i) const noexcept {
   if (permutation_step == 0 || source_count == 0) return i;
   // (i · step) mod n by doubling: every sum stays below 2n < 2^64 since
@@ -104,6 +112,19 @@ void check_layer(const Layer& l, std::size_t index) {
   if (l.kind == LayerKind::Label && l.text.empty()) fail("a label without text");
   if (!(l.point_size > 0.0f) || !std::isfinite(l.point_size)) fail("point size must be positive");
   if (l.source_count < n) fail(fmt::format("source count {} below {} vertices", l.source_count, n));
+  if (l.grid) {
+    const GridCells& g = *l.grid;
+    if (l.kind != LayerKind::Grid || !l.texture) fail("grid cells on a layer that is not a textured grid");
+    if (!(g.resolution > 0.0) || !std::isfinite(g.resolution) || !std::isfinite(g.x_min) || !std::isfinite(g.y_min)) {
+      fail(fmt::format("grid cells of resolution {} at ({}, {})", g.resolution, g.x_min, g.y_min));
+    }
+    const auto texels = [&](std::uint32_t cells) { return (cells + g.cells_per_texel - 1) / g.cells_per_texel; };
+    if (g.size_x == 0 || g.size_y == 0 || g.cells_per_texel == 0 || texels(g.size_x) != l.texture->width ||
+        texels(g.size_y) != l.texture->height) {
+      fail(fmt::format("{} x {} grid cells ({} per texel) do not make its {} x {} texture", g.size_x, g.size_y,
+                       g.cells_per_texel, l.texture->width, l.texture->height));
+    }
+  }
 }
 
 }  // namespace

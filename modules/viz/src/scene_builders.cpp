@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <set>
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
@@ -141,8 +142,10 @@ std::size_t add_occupancy_grid(Scene& scene, const OccupancyGrid& grid, std::str
   gio.mode = RosMapMode::Scale;
   GrayImage image = grid_to_image(grid, gio);
   const std::uint32_t side = std::max(image.width, image.height);
+  std::uint32_t cells_per_texel = 1;
   if (side > options.max_texture_side) {
-    image = shrink_darkest(image, (side + options.max_texture_side - 1) / options.max_texture_side);
+    cells_per_texel = (side + options.max_texture_side - 1) / options.max_texture_side;
+    image = shrink_darkest(image, cells_per_texel);
   }
   const std::size_t index = scene.layers.size();
   Layer& l = new_layer(scene, std::move(name), LayerKind::Grid, Primitive::Triangles, {255, 255, 255, 255});
@@ -160,6 +163,8 @@ std::size_t add_occupancy_grid(Scene& scene, const OccupancyGrid& grid, std::str
   tex.png = encode_png(image);
   l.texture = std::move(tex);
   l.source_count = static_cast<std::uint64_t>(grid.size_x()) * grid.size_y();
+  l.grid = GridCells{grid.x_min(), grid.y_min(), grid.resolution(), static_cast<std::uint32_t>(grid.size_x()),
+                     static_cast<std::uint32_t>(grid.size_y()), cells_per_texel};
   return index;
 }
 
@@ -303,7 +308,11 @@ std::size_t add_graph(Scene& scene, const Graph& graph, const std::string& name,
   loops.name = name + " loop closures";
   loops.kind = LayerKind::LoopEdges;
   loops.color = {255, 60, 60, 255};
+  // Each pair of vertices joined once: a relative pose measured both ways
+  // (rove rgbd-slam's symmetric edges) is one segment and one loop closure.
+  std::set<std::pair<VertexId, VertexId>> joined;
   for (const auto& e : graph.edges()) {
+    if (!joined.insert(std::minmax(e.from, e.to)).second) continue;
     Layer& target = (e.to == e.from + 1 || e.from == e.to + 1) ? odo : loops;
     target.positions.push_back(position_of(graph.pose(e.from)));
     target.positions.push_back(position_of(graph.pose(e.to)));

@@ -43,6 +43,7 @@ const char* to_string(SceneInputKind kind) noexcept {
     case SceneInputKind::KfSlamFolder: return "rove kf-slam output";
     case SceneInputKind::RbpfSlamFolder: return "rove rbpf-slam output";
     case SceneInputKind::NavRunFolder: return "rove nav run output";
+    case SceneInputKind::RgbdSlamFolder: return "rove rgbd-slam output";
   }
   return "unknown";
 }
@@ -97,6 +98,7 @@ SceneInputKind detect_folder(const std::string& path) {
     std::error_code ec;
     return fs::is_regular_file(d / name, ec);
   };
+  if (has("trajectory.tum") && has("keyframes.tum")) return SceneInputKind::RgbdSlamFolder;
   if (has("nodes.tum") && has("graph.g2o")) return SceneInputKind::LidarSlamFolder;
   if (has("keyframes.tum") && has("path.tum")) return SceneInputKind::IcpSlamFolder;
   if (has("landmarks.csv") && has("path.tum")) return SceneInputKind::KfSlamFolder;
@@ -106,7 +108,8 @@ SceneInputKind detect_folder(const std::string& path) {
   throw ParseError({printable(path), std::nullopt, std::nullopt, "folder"},
                    "not an output folder of rove icp-slam (keyframes.tum, path.tum), lidar-slam (nodes.tum, "
                    "graph.g2o), pf-localization (steps.txt, path.tum), kf-slam (landmarks.csv, path.tum), "
-                   "rbpf-slam (ess.csv, path.tum) or nav run (driven.tum, planned.tum)");
+                   "rbpf-slam (ess.csv, path.tum), rgbd-slam (trajectory.tum, keyframes.tum) or nav run (driven.tum, "
+                   "planned.tum)");
 }
 
 SceneInputKind detect_text(const std::string& path) {
@@ -202,23 +205,28 @@ std::string add_trajectory_file(Scene& scene, const std::string& path, bool kitt
 
 std::string add_graph_file(Scene& scene, const std::string& path) {
   const std::string name = display_name(path);
-  const auto summary = [&](std::size_t first) {
-    std::size_t loops = 0;
+  // "(N loop closures)": the pairs of vertices joined by a loop-closure
+  // edge, with the edges' count when some pair has several (measured both
+  // ways, repeated, or merged by EQUIV).
+  const auto summary = [&](std::size_t first, const auto& graph) {
+    std::size_t pairs = 0, edges = 0;
     for (std::size_t i = first; i < scene.layers.size(); ++i) {
-      if (scene.layers[i].kind == LayerKind::LoopEdges) loops = scene.layers[i].positions.size() / 2;
+      if (scene.layers[i].kind == LayerKind::LoopEdges) pairs = scene.layers[i].positions.size() / 2;
     }
-    return loops;
+    for (const auto& e : graph.edges()) edges += (e.to != e.from + 1 && e.from != e.to + 1) ? 1 : 0;
+    return fmt::format("{} vertices, {} edges ({} loop closures{})", graph.num_vertices(), graph.num_edges(), pairs,
+                       edges != pairs ? fmt::format(" by {} edges", edges) : std::string());
   };
   const std::size_t first = scene.layers.size();
   if (detect_graph_dimension(path) == GraphDimension::ThreeD) {
     const PoseGraph3D g = read_graph_3d(path);
     add_pose_graph(scene, g, name);
-    return fmt::format("3D, {} vertices, {} edges ({} loop closures)", g.num_vertices(), g.num_edges(), summary(first));
+    return "3D, " + summary(first, g);
   }
   const PoseGraph2D g = read_graph_2d(path);
   if (g.num_vertices() == 0) throw ParseError({printable(path), std::nullopt, std::nullopt, "vertices"}, "no vertex");
   add_pose_graph(scene, g, name);
-  return fmt::format("2D, {} vertices, {} edges ({} loop closures)", g.num_vertices(), g.num_edges(), summary(first));
+  return "2D, " + summary(first, g);
 }
 
 }  // namespace detail
@@ -253,6 +261,7 @@ void add_scene_input(Scene& scene, const std::string& path, const SceneLoadOptio
   // dropped, the time origin restored.
   const std::size_t layers_before = scene.layers.size();
   const double origin_before = scene.time_origin;
+  const SceneUp up_before = scene.up;
   const std::size_t skipped_before = report.skipped_points;
   std::string what;
   try {
@@ -260,6 +269,7 @@ void add_scene_input(Scene& scene, const std::string& path, const SceneLoadOptio
   } catch (...) {
     scene.layers.resize(layers_before);
     scene.time_origin = origin_before;
+    scene.up = up_before;
     report.skipped_points = skipped_before;
     throw;
   }

@@ -264,6 +264,8 @@ std::string add_output_folder(Scene& scene, const std::string& path, SceneInputK
     case SceneInputKind::KfSlamFolder:
     case SceneInputKind::RbpfSlamFolder:
       return add_filter_slam_folder(scene, path, kind);
+    case SceneInputKind::RgbdSlamFolder:
+      return add_rgbd_slam_folder(scene, path, o, report);
     case SceneInputKind::NavRunFolder: {
       TrajectoryLayerOptions planned;
       planned.kind = LayerKind::Path;

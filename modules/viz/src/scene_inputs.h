@@ -37,6 +37,10 @@ std::string add_paths(Scene& scene, const std::filesystem::path& dir, const std:
                       Rgba8 secondary_color);
 /// The output folders of rove kf-slam and rove rbpf-slam.
 std::string add_filter_slam_folder(Scene& scene, const std::string& path, SceneInputKind kind);
+/// The output folder of rove rgbd-slam (sets the scene's up to −y when it
+/// has no layer yet).
+std::string add_rgbd_slam_folder(Scene& scene, const std::string& path, const SceneLoadOptions& o,
+                                 SceneLoadReport& report);
 std::string add_output_folder(Scene& scene, const std::string& path, SceneInputKind kind, const SceneLoadOptions& o,
                               SceneLoadReport& report);
 

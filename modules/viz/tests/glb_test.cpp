@@ -103,6 +103,28 @@ TEST(Glb, HeaderChunksAndAccessorsRoundTrip) {
   for (const auto& m : g.json["materials"].as_array()) EXPECT_TRUE(m["extensions"].contains("KHR_materials_unlit"));
 }
 
+TEST(Glb, UpAxisAndGridCellsAreInTheMetadata) {
+  Scene s;
+  add_occupancy_grid(s, OccupancyGrid(-1.0f, 2.0f, 0.5f, 1.5f, 0.25f), "floor");
+  GlbContents g = parse_glb(write_glb_to_memory(s), "mem");
+  EXPECT_EQ(g.json["scenes"][0]["extras"]["rove"]["up"].as_string(), "z");
+  const JsonValue& cells = g.json["nodes"][1]["extras"]["rove"]["grid"];
+  EXPECT_EQ(cells["x_min"].as_number(), -1.0);
+  EXPECT_EQ(cells["y_min"].as_number(), 0.5);
+  EXPECT_EQ(cells["resolution"].as_number(), 0.25);
+  EXPECT_EQ(cells["size_x"].as_index(), 12u);
+  EXPECT_EQ(cells["size_y"].as_index(), 4u);
+  EXPECT_EQ(cells["cells_per_texel"].as_index(), 1u);
+  // A camera's optical frame: −y up becomes glTF's y up by 180° about x
+  // (quaternion x y z w = 1 0 0 0), which maps (0, −1, 0) to (0, 1, 0).
+  s.up = SceneUp::MinusY;
+  g = parse_glb(write_glb_to_memory(s), "mem");
+  EXPECT_EQ(g.json["scenes"][0]["extras"]["rove"]["up"].as_string(), "-y");
+  const JsonValue& q = g.json["nodes"][0]["rotation"];
+  EXPECT_EQ(q[0].as_number(), 1.0);
+  EXPECT_EQ(q[3].as_number(), 0.0);
+}
+
 TEST(Glb, EveryAccessorFitsItsViewAndTheBuffer) {
   Scene s = two_layer_scene();
   OccupancyGrid grid(-1.0f, 1.0f, -2.0f, 2.0f, 0.1f);

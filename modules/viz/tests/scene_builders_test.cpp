@@ -86,7 +86,18 @@ TEST(SceneBuilders, GridIsATexturedRectangleOverItsArea) {
   EXPECT_EQ(l.texture->width, 10u);
   EXPECT_EQ(l.texture->height, 2u);
   EXPECT_EQ(l.indices.size(), 6u);
+  ASSERT_TRUE(l.grid.has_value());
+  EXPECT_EQ(l.grid->x_min, -2.0);
+  EXPECT_EQ(l.grid->y_min, 1.0);
+  EXPECT_EQ(l.grid->resolution, 0.5);
+  EXPECT_EQ(l.grid->size_x, 10u);
+  EXPECT_EQ(l.grid->size_y, 2u);
+  EXPECT_EQ(l.grid->cells_per_texel, 1u);
   s.check();
+  // Cells that do not make the texture are refused.
+  Scene bad = s;
+  bad.layers[0].grid->size_x = 11;
+  EXPECT_THROW(bad.check(), InvalidArgument);
 }
 
 TEST(SceneBuilders, LargeGridTextureShrinksToTheLimit) {
@@ -97,6 +108,8 @@ TEST(SceneBuilders, LargeGridTextureShrinksToTheLimit) {
   add_occupancy_grid(s, g, "g", o);
   EXPECT_EQ(s.layers[0].texture->width, 3334u);  // factor 3
   EXPECT_EQ(s.layers[0].texture->height, 334u);
+  EXPECT_EQ(s.layers[0].grid->cells_per_texel, 3u);
+  s.check();
 }
 
 TEST(SceneBuilders, OctreeLeavesBecomeBoxesOfTheirSize) {
@@ -171,6 +184,25 @@ TEST(SceneBuilders, PoseGraphSeparatesLoopClosures) {
   EXPECT_EQ(s.layers[2].kind, LayerKind::LoopEdges);
   ASSERT_EQ(s.layers[2].positions.size(), 2u);
   EXPECT_EQ(s.layers[2].positions[1], Eigen::Vector3f(3.0f, 0.0f, 0.0f));
+}
+
+TEST(SceneBuilders, EdgesBetweenTheSameVerticesAreDrawnOnce) {
+  // rove rgbd-slam measures each relative pose both ways: two edges per pair.
+  PoseGraph3D g;
+  for (int i = 0; i < 4; ++i) g.add_vertex(static_cast<VertexId>(i), SE3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(i, 0, 0)));
+  for (VertexId i = 0; i < 3; ++i) {
+    g.add_edge(i, i + 1, SE3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0)));
+    g.add_edge(i, i + 1, SE3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0)));
+  }
+  g.add_edge(0, 3, SE3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(3, 0, 0)));
+  g.add_edge(3, 0, SE3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-3, 0, 0)));
+  Scene s;
+  add_pose_graph(s, g, "g");
+  ASSERT_EQ(s.layers.size(), 3u);
+  EXPECT_EQ(s.layers[1].positions.size(), 6u);  // 3 pairs
+  ASSERT_EQ(s.layers[2].kind, LayerKind::LoopEdges);
+  ASSERT_EQ(s.layers[2].positions.size(), 2u);  // one loop
+  EXPECT_EQ(s.layers[2].positions[1], Eigen::Vector3f(3, 0, 0));
 }
 
 TEST(SceneBuilders, EllipseIsTheKSigmaContour) {

@@ -8,6 +8,7 @@
 #include "rove/core/files.h"
 #include "rove/graph/graph_io.h"
 #include "rove/io/grid_image.h"
+#include "rove/io/ply.h"
 #include "rove/io/tum_trajectory.h"
 #include "rove/test_data.h"
 #include "rove/viz/scene_files.h"
@@ -88,6 +89,148 @@ TEST_F(SceneFiles, LidarSlamFolderGivesMapGraphAndPaths) {
   EXPECT_EQ(vertices_of(s, LayerKind::Path), 5u);
   EXPECT_EQ(vertices_of(s, LayerKind::Label), 1u);
   EXPECT_EQ(s.time_origin, 10.0);
+}
+
+// An output folder of rove rgbd-slam, as it writes one: 6 frames, 4
+// keyframes with edges measured both ways, loops 2–0 (measured twice) and
+// 3–0, 3 loop checks, a coloured map of 3 points. Positions are in the
+// first keyframe's optical frame (y down, z forward).
+class RgbdSlamFolder : public SceneFiles {
+ protected:
+  void SetUp() override {
+    SceneFiles::SetUp();
+    std::vector<TimedPose3> traj, kfs;
+    for (int i = 0; i < 6; ++i) {
+      const SE3d T(Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d::UnitY())),
+                   Eigen::Vector3d(0.1 * i, -0.02 * i, 0.05 * i));
+      traj.push_back({Timestamp::from_seconds(1000.0 + 0.1 * i), T});
+      if (i != 1 && i != 4) kfs.push_back(traj.back());
+    }
+    write_tum_trajectory((dir_ / "trajectory.tum").string(), traj);
+    write_tum_trajectory((dir_ / "keyframes.tum").string(), kfs);
+    PoseGraph3D g;
+    for (std::size_t k = 0; k < kfs.size(); ++k) g.add_vertex(k, kfs[k].pose, k == 0);
+    const auto both_ways = [&](VertexId a, VertexId b) {
+      const SE3d T_a_b = kfs[a].pose.inverse() * kfs[b].pose;
+      g.add_edge(a, b, T_a_b);
+      g.add_edge(a, b, T_a_b);
+    };
+    for (VertexId k = 0; k + 1 < kfs.size(); ++k) both_ways(k, k + 1);
+    both_ways(0, 2);
+    g.add_edge(0, 3, kfs[0].pose.inverse() * kfs[3].pose);
+    write_graph(g, (dir_ / "graph.g2o").string());
+    write("loops.csv",
+          "keyframe,candidate,keyframe_time,candidate_time,kind,matches,inliers,motion_norm,accepted\n"
+          "2,0,1000.300000,1000.000000,nearby,120,80,0.2000,1\n"
+          "3,1,1000.500000,1000.200000,nearby,30,10,0.1000,0\n"
+          "3,0,1000.500000,1000.000000,random,100,60,0.3000,1\n");
+    PointCloud map;
+    map.set_channels(PointChannels::Color);
+    map.push_back({0.0f, 0.5f, 2.0f}, Rgb8{200, 10, 10});
+    map.push_back({1.0f, 0.5f, 2.5f}, Rgb8{10, 200, 10});
+    map.push_back({-1.0f, -0.5f, 3.0f}, Rgb8{10, 10, 200});
+    write_ply((dir_ / "map.ply").string(), map);
+    keyframes_ = kfs;
+    trajectory_ = traj;
+  }
+  std::vector<TimedPose3> keyframes_, trajectory_;
+};
+
+const Layer* layer_of(const Scene& s, LayerKind kind) {
+  for (const auto& l : s.layers) {
+    if (l.kind == kind) return &l;
+  }
+  return nullptr;
+}
+
+TEST_F(RgbdSlamFolder, GivesTheMapTrajectoryKeyframesAndGraphWithLoopsOnce) {
+  EXPECT_EQ(detect_scene_input(dir_.string()), SceneInputKind::RgbdSlamFolder);
+  Scene s;
+  SceneLoadReport r;
+  add_scene_input(s, dir_.string(), {}, r);
+  ASSERT_EQ(r.loaded.size(), 1u);
+  const std::string& line = r.loaded[0];
+  EXPECT_NE(line.find("rove rgbd-slam output, map 3 points; graph 3D, 4 vertices, 9 edges (2 loop closures by 3 edges); 6 poses "
+                      "(trajectory.tum); 4 keyframes; loops.csv: 2 of 3 loop checks accepted (nearby 1, random 1)"),
+            std::string::npos)
+      << line;
+  EXPECT_EQ(s.up, SceneUp::MinusY);
+  // The map in its file's colours.
+  const Layer* map = layer_of(s, LayerKind::PointCloud);
+  ASSERT_NE(map, nullptr);
+  ASSERT_EQ(map->positions.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::uint64_t k = map->source_index(i);
+    const Eigen::Vector3f want = k == 0 ? Eigen::Vector3f(0, 0.5f, 2) : k == 1 ? Eigen::Vector3f(1, 0.5f, 2.5f)
+                                                                             : Eigen::Vector3f(-1, -0.5f, 3);
+    EXPECT_EQ(map->positions[i], want) << k;
+    EXPECT_EQ(map->colors[i].r, k == 0 ? 200 : 10) << k;
+  }
+  // The graph: each pair of keyframes once, the loops 0–2 and 0–3 highlighted.
+  EXPECT_EQ(vertices_of(s, LayerKind::GraphVertices), 4u);
+  EXPECT_EQ(vertices_of(s, LayerKind::GraphEdges), 6u);
+  const Layer* loops = layer_of(s, LayerKind::LoopEdges);
+  ASSERT_NE(loops, nullptr);
+  ASSERT_EQ(loops->positions.size(), 4u);
+  const auto at = [](const TimedPose3& p) { return p.pose.translation().cast<float>().eval(); };
+  EXPECT_TRUE(loops->positions[0].isApprox(at(keyframes_[0]), 1e-6f));
+  EXPECT_TRUE(loops->positions[1].isApprox(at(keyframes_[2]), 1e-6f));
+  EXPECT_TRUE(loops->positions[3].isApprox(at(keyframes_[3]), 1e-6f));
+  // Every frame on the trajectory, the keyframes as a path with a frame each.
+  const Layer* traj = layer_of(s, LayerKind::Trajectory);
+  ASSERT_NE(traj, nullptr);
+  ASSERT_EQ(traj->positions.size(), 6u);
+  EXPECT_TRUE(traj->positions[5].isApprox(at(trajectory_[5]), 1e-6f));
+  EXPECT_NEAR(traj->times[5] + s.time_origin, 1000.5, 1e-4);
+  const Layer* kf = layer_of(s, LayerKind::Path);
+  ASSERT_NE(kf, nullptr);
+  ASSERT_EQ(kf->positions.size(), 4u);
+  EXPECT_TRUE(kf->positions[2].isApprox(at(keyframes_[2]), 1e-6f));
+  const Layer* frames = layer_of(s, LayerKind::Frames);
+  ASSERT_NE(frames, nullptr);
+  ASSERT_EQ(frames->positions.size(), 4u * 6u);  // 3 axes of 2 vertices per keyframe
+  // Keyframe 3's z axis (blue, the camera's forward) along its rotation's third column.
+  const Eigen::Vector3f z_axis = frames->positions[3 * 6 + 5] - frames->positions[3 * 6 + 4];
+  const Eigen::Vector3f want = keyframes_[3].pose.rotation_matrix().col(2).cast<float>();
+  EXPECT_NEAR(z_axis.normalized().dot(want), 1.0f, 1e-5f);
+  EXPECT_EQ(vertices_of(s, LayerKind::Label), 1u);
+  EXPECT_EQ(s.layers.back().text, "start");
+  EXPECT_TRUE(s.layers.back().positions[0].isApprox(at(trajectory_[0]), 1e-6f));
+}
+
+TEST_F(RgbdSlamFolder, AfterAMapTheSceneKeepsZUp) {
+  OccupancyGrid g(0.0f, 1.0f, 0.0f, 1.0f, 0.1f);
+  const RosMapFiles f = save_ros_map((dir_ / "floor").string(), g);
+  const std::vector<std::string> inputs = {f.yaml, dir_.string()};
+  Scene s;
+  const SceneLoadReport r = build_scene(s, inputs);
+  ASSERT_TRUE(r.skipped.empty()) << r.skipped.front();
+  EXPECT_EQ(s.up, SceneUp::PlusZ);
+}
+
+TEST_F(RgbdSlamFolder, ABadLoopsFileNamesTheLineAndLeavesTheSceneAsItWas) {
+  write("loops.csv",
+        "keyframe,candidate,keyframe_time,candidate_time,kind,matches,inliers,motion_norm,accepted\n"
+        "2,0,1000.3,1000.0,nearby,120,80,0.2,1\n"
+        "9,0,1000.3,1000.0,nearby,120,80,0.2,1\n");
+  Scene s;
+  SceneLoadReport r;
+  try {
+    add_scene_input(s, dir_.string(), {}, r);
+    FAIL() << "a loop of keyframe 9 of 4 was read";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.location().line, 3u);
+    EXPECT_EQ(e.location().field, "keyframe");
+    EXPECT_NE(e.message().find("keyframes.tum has 4"), std::string::npos) << e.message();
+  }
+  EXPECT_TRUE(s.layers.empty());
+  EXPECT_EQ(s.up, SceneUp::PlusZ);
+  EXPECT_TRUE(std::isnan(s.time_origin));
+  write("loops.csv", "keyframe,candidate,kind,accepted\n1,0,nearby,yes\n");
+  EXPECT_THROW(add_scene_input(s, dir_.string(), {}, r), ParseError);
+  write("loops.csv", "keyframe,kind,accepted\n1,nearby,1\n");
+  EXPECT_THROW(add_scene_input(s, dir_.string(), {}, r), ParseError);
+  EXPECT_TRUE(s.layers.empty());
 }
 
 TEST_F(SceneFiles, PfLocalizationFolderTimesParticlesByTheirStep) {

@@ -153,6 +153,42 @@ TEST(ViewerBrowser, AClickAtTheCentrePicksThePointThereWithItsFileIndex) {
   fs::remove_all(dir);
 }
 
+TEST(ViewerBrowser, AClickOnAGridShowsTheCellItsCentreAndOccupancy) {
+  // 11 x 7 cells of 10 cm: the camera looks at the middle of cell (5, 3),
+  // the one cell that is not free.
+  OccupancyGrid g(0.0f, 1.1f, 0.0f, 0.7f, 0.1f);
+  ASSERT_EQ(g.size_x(), 11u);
+  ASSERT_EQ(g.size_y(), 7u);
+  for (std::uint32_t cy = 0; cy < g.size_y(); ++cy) {
+    for (std::uint32_t cx = 0; cx < g.size_x(); ++cx) g.set_free_probability(cx, cy, cx == 5 && cy == 3 ? 0.2f : 1.0f);
+  }
+  Scene scene;
+  add_occupancy_grid(scene, g, "floor");
+  const fs::path dir = temp_folder("pick_grid");
+  ViewerPageOptions po;
+  po.pick_at = std::array<double, 2>{0.0, 0.0};
+  const fs::path html = dir / "pick.html";
+  write_text_file_atomically(html, standalone_page(write_glb_to_memory(scene), po));
+  const JsonValue stats = stats_of(headless_dump_dom(file_url(html.string())));
+  ASSERT_TRUE(stats.contains("pick")) << "no pick in the stats";
+  const JsonValue& pick = stats["pick"];
+  ASSERT_TRUE(pick.is_object()) << "nothing picked at the centre";
+  EXPECT_EQ(pick["kind"].as_string(), "grid");
+  EXPECT_EQ(pick["layer"].as_string(), "floor");
+  ASSERT_TRUE(pick.contains("cell"));
+  EXPECT_EQ(pick["cell"][0].as_index(), 5u);
+  EXPECT_EQ(pick["cell"][1].as_index(), 3u);
+  EXPECT_EQ(pick["index"].as_index(), 3u * 11u + 5u);
+  EXPECT_NEAR(pick["x"].as_number(), 0.55, 1e-6);
+  EXPECT_NEAR(pick["y"].as_number(), 0.35, 1e-6);
+  // The texture holds 255·p(free) rounded.
+  ASSERT_TRUE(pick["occupancy"].is_number()) << "the page could not read the texture";
+  const double want = 1.0 - std::round(255.0 * g.free_probability(5, 3)) / 255.0;
+  EXPECT_NEAR(pick["occupancy"].as_number(), want, 1e-6);
+  EXPECT_NEAR(pick["occupancy"].as_number(), 0.8, 0.01);
+  fs::remove_all(dir);
+}
+
 // Pixel statistics of a gray image: mean, standard deviation, and the share
 // of pixels away from the page's background (#1b1e23, gray ≈ 30).
 struct PixelStats {

@@ -27,6 +27,7 @@
     'uniform float size;',
     'uniform int mode;',
     'uniform vec2 zrange;',
+    'uniform vec3 up;',
     'uniform vec2 irange;',
     'uniform vec3 base;',
     'varying vec3 vColor;',
@@ -38,7 +39,7 @@
     '#ifdef HAS_COLOR',
     '  if (mode == 0) vColor = color.rgb;',
     '#endif',
-    '  if (mode == 1) vColor = ramp((position.z - zrange.x) / max(zrange.y - zrange.x, 1e-6));',
+    '  if (mode == 1) vColor = ramp((dot(position, up) - zrange.x) / max(zrange.y - zrange.x, 1e-6));',
     '#ifdef HAS_INTENSITY',
     '  if (mode == 2) vColor = ramp((_intensity - irange.x) / max(irange.y - irange.x, 1e-12));',
     '#endif',
@@ -147,13 +148,19 @@
     // In the file's order (the loader may attach nodes in another).
     found.sort(function (a, b) { return (a.userData.rove.index || 0) - (b.userData.rove.index || 0); });
     this.bounds = new THREE.Box3();
+    // Height is along the scene's up axis, in the layers' own (rove's) frame.
+    this.up = this.meta.up === '-y' ? new THREE.Vector3(0, -1, 0) : new THREE.Vector3(0, 0, 1);
     this.zrange = [Infinity, -Infinity];
     found.forEach(function (o) {
       var pos = o.geometry.attributes.position;
       o.geometry.computeBoundingBox();
-      var bb = o.geometry.boundingBox;
-      self.zrange[0] = Math.min(self.zrange[0], bb.min.z);
-      self.zrange[1] = Math.max(self.zrange[1], bb.max.z);
+      var bb = o.geometry.boundingBox, u = self.up, lo = 0, hi = 0;
+      ['x', 'y', 'z'].forEach(function (a) {
+        lo += u[a] * (u[a] > 0 ? bb.min[a] : bb.max[a]);
+        hi += u[a] * (u[a] > 0 ? bb.max[a] : bb.min[a]);
+      });
+      self.zrange[0] = Math.min(self.zrange[0], lo);
+      self.zrange[1] = Math.max(self.zrange[1], hi);
       self.bounds.union(bb.clone().applyMatrix4(o.matrixWorld));
       self.layers.push(self.makeLayer(o, pos.count));
     });
@@ -172,6 +179,7 @@
         var hit = self.pick(self.opts.pickAt[0], self.opts.pickAt[1]);
         self.stats.pick = hit ? { layer: hit.layer, kind: hit.kind, index: hit.index, x: hit.x, y: hit.y, z: hit.z }
           : null;
+        if (hit && hit.cell) { self.stats.pick.cell = hit.cell; self.stats.pick.occupancy = hit.occupancy; }
       }
       self.publishStats();
       if (self.opts.bench) self.bench();
@@ -206,6 +214,7 @@
         uniforms: {
           size: { value: info.point_size || 2 }, mode: { value: 3 },
           zrange: { value: new THREE.Vector2(0, 1) }, irange: { value: new THREE.Vector2(0, 1) },
+          up: { value: this.up },
           base: { value: new THREE.Color(info.color[0] / 255, info.color[1] / 255, info.color[2] / 255) }
         },
         defines: defines, vertexShader: POINT_VERTEX, fragmentShader: POINT_FRAGMENT
@@ -246,8 +255,10 @@
     var d = Math.max(s.length(), 1e-3);
     this.sceneSize = d;
     this.camera.near = d / 1e4; this.camera.far = d * 100;
-    // Look down steeply on flat scenes (maps), at 45 degrees on others; the
-    // camera stands on rove's -y side (three's +z), y up in three is z in rove.
+    // Look down steeply on flat scenes (maps), at 45 degrees on others; y up
+    // in three is the scene's up (z in rove's maps, -y in a camera's
+    // optical frame); the camera stands on three's +z side (rove's -y side
+    // of a map, behind an optical frame's forward z).
     var flat = s.y < 0.2 * Math.max(s.x, s.z);
     var elevation = flat ? 1.1 : 0.785;
     this.camera.position.set(c.x, c.y + 0.8 * d * Math.sin(elevation), c.z + 0.8 * d * Math.cos(elevation));
@@ -383,7 +394,7 @@
       ['uniform', 'one per layer']].forEach(function (o) { el('option', { value: o[0], text: o[1] }, select); });
     select.addEventListener('change', function () { self.colorMode = select.value; self.applyColors(); });
     this.buildTimeSlider(panel);
-    el('div', { id: 'rove-pick', text: 'Click a point or a pose to see its coordinates.' }, panel);
+    el('div', { id: 'rove-pick', text: 'Click a point, a pose or a grid cell to see its coordinates.' }, panel);
     el('div', { 'class': 'rove-help',
       text: 'drag: orbit · right drag: pan · wheel: zoom · large clouds thin out while moving' }, panel);
   };
@@ -439,17 +450,64 @@
     var perPixel = 2 * dist * Math.tan(this.camera.fov * Math.PI / 360) / h;
     ray.params.Points.threshold = 5 * perPixel;
     ray.params.Line.threshold = 4 * perPixel;
-    var targets = [];
-    this.layers.forEach(function (L) { if (L.obj.visible && L.kind !== 'grid' && L.kind !== 'label') targets.push(L.obj); });
+    // Points, poses and vertices first; a grid cell when none is under the cursor.
+    var targets = [], grids = [];
+    this.layers.forEach(function (L) {
+      if (!L.obj.visible || L.kind === 'label') return;
+      if (L.kind === 'grid') { if (L.info.grid) grids.push(L.obj); } else targets.push(L.obj);
+    });
     var hits = ray.intersectObjects(targets, false);
+    if (hits.length === 0) hits = ray.intersectObjects(grids, false);
     var box = document.getElementById('rove-pick');
     if (hits.length === 0) { if (box) box.textContent = 'Nothing under the cursor.'; return null; }
     var hit = hits[0], L = null;
     this.layers.forEach(function (l) { if (l.obj === hit.object) L = l; });
-    var index = hit.index !== undefined ? hit.index : 0;
-    var info = this.describe(L, index);
+    var info = L.kind === 'grid' ? this.describeCell(L, hit.object.worldToLocal(hit.point.clone()))
+      : this.describe(L, hit.index !== undefined ? hit.index : 0);
     if (box) box.textContent = info.text;
     return info;
+  };
+
+  // The gray levels of a grid's texture (255 p(free), row 0 at the top),
+  // read once from the decoded image; null if the browser refuses.
+  View.prototype.gridPixels = function (L) {
+    if (L.pixels !== undefined) return L.pixels;
+    L.pixels = null;
+    var map = L.obj.material && L.obj.material.map, img = map && map.image;
+    if (!img || !img.width) return null;
+    try {
+      var c = document.createElement('canvas');
+      c.width = img.width; c.height = img.height;
+      var ctx = c.getContext('2d');
+      ctx.drawImage(img, 0, 0);
+      L.pixels = { width: img.width, height: img.height, data: ctx.getImageData(0, 0, img.width, img.height).data };
+    } catch (e) { L.pixels = null; }
+    return L.pixels;
+  };
+
+  // The grid cell at a point in the layer's (rove's) frame: its indices,
+  // its centre and p(occupied) from the texture.
+  View.prototype.describeCell = function (L, p) {
+    var g = L.info.grid;
+    var clampIndex = function (v, n) { return Math.max(0, Math.min(n - 1, v)); };
+    var cx = clampIndex(Math.floor((p.x - g.x_min) / g.resolution), g.size_x);
+    var cy = clampIndex(Math.floor((p.y - g.y_min) / g.resolution), g.size_y);
+    var out = { layer: L.info.name, kind: L.kind, index: cy * g.size_x + cx, cell: [cx, cy],
+      x: g.x_min + (cx + 0.5) * g.resolution, y: g.y_min + (cy + 0.5) * g.resolution, z: p.z, occupancy: null };
+    var text = L.info.name + ' (grid) cell (' + cx + ', ' + cy + ') of ' + g.size_x + ' x ' + g.size_y + '\n' +
+      'centre x ' + out.x.toFixed(3) + '  y ' + out.y.toFixed(3) + ' m\n';
+    var px = this.gridPixels(L), k = g.cells_per_texel || 1;
+    if (px) {
+      var tx = Math.floor(cx / k), ty = Math.floor((g.size_y - 1 - cy) / k);
+      var gray = px.data[4 * (ty * px.width + tx)];
+      out.occupancy = 1 - gray / 255;
+      text += 'p(occupied) ' + out.occupancy.toFixed(3) + (gray === 127 || gray === 128 ? ' (unknown)' : '');
+      if (k > 1) text += ', the most occupied of the ' + k + ' x ' + k + ' cells shown by this texel';
+    } else {
+      text += 'occupancy not readable from the texture';
+    }
+    out.text = text;
+    return out;
   };
 
   View.prototype.describe = function (L, index) {

@@ -68,6 +68,32 @@ enum class TimeMode : std::uint8_t {
   Snapshot,    ///< only the vertices of the latest time ≤ t (one particle set)
 };
 
+/// Which way is up in a scene's world frame, for the viewer's camera and
+/// its colour by height (positions keep the frame of their files).
+enum class SceneUp : std::uint8_t {
+  PlusZ,   ///< z up: maps, robots, rove's 2D and 3D SLAM
+  MinusY,  ///< −y up: a camera's optical frame (x right, y down, z forward), e.g. rove rgbd-slam
+};
+
+/// "z" or "-y": the name written into the glTF metadata.
+const char* to_string(SceneUp up) noexcept;
+
+/// The cells behind a grid layer's texture, so that a viewer can tell the
+/// cell under the cursor: cell (cx, cy) covers x_min + cx·resolution ..
+/// + resolution and likewise in y; its texel is column cx / cells_per_texel,
+/// row (size_y − 1 − cy) / cells_per_texel of the texture (row 0 at the
+/// top, integer division).
+struct GridCells {
+  double x_min = 0.0;                ///< meters, left edge of cell column 0
+  double y_min = 0.0;                ///< meters, lower edge of cell row 0
+  double resolution = 0.0;           ///< meters per cell, > 0
+  std::uint32_t size_x = 0;          ///< cells along x
+  std::uint32_t size_y = 0;          ///< cells along y
+  /// Cells per texel side: 1, or k when the texture was shrunk by k (each
+  /// texel the most occupied of its k × k cells).
+  std::uint32_t cells_per_texel = 1;
+};
+
 /// An image for a textured layer, as PNG bytes.
 struct Texture {
   std::uint32_t width = 0;          ///< pixels
@@ -92,6 +118,9 @@ struct Layer {
   float point_size = 2.0f;                   ///< pixels, for points
   TimeMode time_mode = TimeMode::None;       ///< how `times` animate it
   std::string text;                          ///< a label's text
+  /// For a Grid layer: its cells (the texture holds p(free) in gray,
+  /// 255·p rounded); empty for other layers.
+  std::optional<GridCells> grid;
   /// Elements of the source before decimation (points of a cloud, poses);
   /// equals positions.size() when nothing was dropped.
   std::uint64_t source_count = 0;
@@ -121,6 +150,8 @@ struct Scene {
   double time_origin = std::numeric_limits<double>::quiet_NaN();
   /// The files the scene was built from.
   std::vector<std::string> sources;
+  /// Which way is up in the world frame.
+  SceneUp up = SceneUp::PlusZ;
 
   /// Vertices over all layers.
   std::size_t vertex_count() const noexcept;
@@ -128,7 +159,8 @@ struct Scene {
   SceneBounds bounds() const noexcept;
   /// Checks every layer: vertex arrays empty or as long as positions,
   /// indices in range and complete primitives, finite positions, uvs with a
-  /// texture, a label with text. Throws InvalidArgument naming the layer.
+  /// texture, a label with text, grid cells only on a textured Grid layer
+  /// and consistent with its texture. Throws InvalidArgument naming the layer.
   void check() const;
 };
 

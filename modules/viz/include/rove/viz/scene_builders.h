@@ -59,7 +59,8 @@ struct GridLayerOptions {
 
 /// Adds a grid as a rectangle over its area textured with p(free) in gray
 /// (white free, black occupied, mid gray unknown), cells sharp (nearest
-/// filtering). Throws InvalidArgument for a grid without cells.
+/// filtering), with its cells' geometry (Layer::grid) for picking. Throws
+/// InvalidArgument for a grid without cells.
 std::size_t add_occupancy_grid(Scene& scene, const OccupancyGrid& grid, std::string name,
                                const GridLayerOptions& options = {});
 
@@ -96,7 +97,9 @@ std::size_t add_trajectory(Scene& scene, std::span<const StampedPose3> poses, st
 
 /// Adds a 2D pose graph (z = 0): vertices as points, edges between
 /// consecutive vertex ids in one layer and the others (loop closures)
-/// highlighted in another. Throws InvalidArgument for a graph without vertices.
+/// highlighted in another; edges joining the same two vertices (measured
+/// both ways, or repeated) are drawn once. Throws InvalidArgument for a
+/// graph without vertices.
 std::size_t add_pose_graph(Scene& scene, const PoseGraph2D& graph, std::string name);
 /// Adds a 3D pose graph (as the 2D overload).
 std::size_t add_pose_graph(Scene& scene, const PoseGraph3D& graph, std::string name);

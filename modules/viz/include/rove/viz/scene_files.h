@@ -19,7 +19,10 @@
 ///  - output folders: `rove icp-slam` (keyframes.tum + map.simplemap),
 ///    `rove lidar-slam` (nodes.tum + graph.g2o), `rove pf-localization`
 ///    (steps.txt), `rove kf-slam` (landmarks.csv + path.tum), `rove rbpf-slam`
-///    (ess.csv + path.tum; map.yaml or beacons.csv), `rove nav run` (driven.tum + planned.tum).
+///    (ess.csv + path.tum; map.yaml or beacons.csv), `rove nav run` (driven.tum + planned.tum),
+///    `rove rgbd-slam` (trajectory.tum + keyframes.tum; map.ply, graph.g2o,
+///    loops.csv), shown with −y up (its world is a camera's optical frame)
+///    when it is the first input.
 
 #include <cstddef>
 #include <span>
@@ -35,6 +38,7 @@ namespace rove {
 enum class SceneInputKind : std::uint8_t {
   Pcd, Ply, RosMap, Octree, TumTrajectory, KittiTrajectory, PoseGraph, Rawlog, Particles, PfSteps, Landmarks,
   IcpSlamFolder, LidarSlamFolder, PfLocalizationFolder, KfSlamFolder, RbpfSlamFolder, NavRunFolder,
+  RgbdSlamFolder,
 };
 
 /// "PCD point cloud", "ROS map", ..., "rove lidar-slam output", for messages.
@@ -64,7 +68,8 @@ struct SceneLoadReport {
 
 /// Adds what `path` holds to `scene` and a line to `report.loaded`. Throws
 /// (IoError, ParseError, InvalidArgument) naming the file when it is
-/// unknown, unreadable, corrupt or empty; the scene is left as it was.
+/// unknown, unreadable, corrupt or empty; the scene is left as it was
+/// (layers, time origin and up axis).
 void add_scene_input(Scene& scene, const std::string& path, const SceneLoadOptions& options,
                      SceneLoadReport& report);
 

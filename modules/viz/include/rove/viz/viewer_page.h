@@ -44,7 +44,9 @@ struct ViewerPageOptions {
   bool panel = true;
   /// When set, the page clicks at these normalized device coordinates
   /// (−1..1, y up; (0, 0) is the centre) once loaded and publishes what it
-  /// picked in the stats ("pick": layer, kind, index in the source, x, y, z).
+  /// picked in the stats ("pick": layer, kind, index in the source, x, y, z;
+  /// for a grid cell also "cell": [cx, cy] and "occupancy": p(occupied) read
+  /// from the texture, with index cy·size_x + cx and x, y the cell's centre).
   std::optional<std::array<double, 2>> pick_at;
 };
 
