@@ -261,8 +261,29 @@
     // of a map, behind an optical frame's forward z).
     var flat = s.y < 0.2 * Math.max(s.x, s.z);
     var elevation = flat ? 1.1 : 0.785;
-    this.camera.position.set(c.x, c.y + 0.8 * d * Math.sin(elevation), c.z + 0.8 * d * Math.cos(elevation));
+    var dir = new THREE.Vector3(0, Math.sin(elevation), Math.cos(elevation));
+    // Then move along that direction until the bounds' corners fill 90% of
+    // the view's width or height (a few fixed-point steps: the projected
+    // size goes nearly as 1 / distance).
+    var b = this.bounds, corners = [], dist = 0.8 * d;
+    for (var k = 0; k < 8; ++k) {
+      corners.push(new THREE.Vector3(k & 1 ? b.max.x : b.min.x, k & 2 ? b.max.y : b.min.y, k & 4 ? b.max.z : b.min.z));
+    }
     this.camera.updateProjectionMatrix();
+    for (var it = 0; it < 6; ++it) {
+      this.camera.position.copy(c).addScaledVector(dir, dist);
+      this.camera.lookAt(c);
+      this.camera.updateMatrixWorld();
+      var m = 0;
+      for (k = 0; k < 8; ++k) {
+        var q = corners[k].clone().project(this.camera);
+        m = Math.max(m, Math.abs(q.x), Math.abs(q.y));
+      }
+      if (!(m > 0) || !isFinite(m)) break;
+      dist *= Math.max(0.5, Math.min(2, m / 0.9));
+      dist = Math.max(dist, 0.55 * d);  // stay outside the bounds
+    }
+    this.camera.position.copy(c).addScaledVector(dir, dist);
     this.controls.target.copy(c);
     this.controls.update();
     this.layers.forEach(function (L) {
