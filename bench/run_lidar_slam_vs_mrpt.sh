@@ -19,7 +19,8 @@
 # --arithmetic mrpt` (MRPT's path to the bit, proven by the mrpt_compat
 # tests), same config: its time is rove's, its accuracy MRPT's.
 #
-# lidar-slam runs on one thread (it has no other). Needs mrpt-apps.
+# lidar-slam runs on one thread (its default; --threads parallelizes only
+# the final refinement's alignments). Needs mrpt-apps.
 # Usage: [ROVE_DATASETS_DIR=DIR] bench/run_lidar_slam_vs_mrpt.sh [LOG...]   (default: intel fr079 aces telecom)
 set -euo pipefail
 cd "$(dirname "$0")/.."

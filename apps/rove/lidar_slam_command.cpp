@@ -19,6 +19,7 @@
 #include "rove/core/ini.h"
 #include "rove/core/interrupt.h"
 #include "rove/core/json.h"
+#include "rove/core/parallel.h"
 #include "rove/core/progress.h"
 #include "rove/core/timer.h"
 #include "rove/graph/graph_io.h"
@@ -45,6 +46,7 @@ struct LidarSlamCliOptions {
   std::optional<std::uint64_t> max_scans;
   std::optional<float> max_range;
   std::string sensor;
+  std::optional<int> threads;  // overrides [backend] num_threads
 };
 
 struct Config {
@@ -191,6 +193,14 @@ std::string summary_json(const Config& cfg, const std::string& log, const LidarS
     j.key("iterations").value(o->iterations);
     j.end_object();
   }
+  const LidarBackEndOptions& b = slam.options().backend;
+  j.key("refinement").begin_object();
+  j.key("scan_window").value(b.scan_window);
+  j.key("window_edges").value(st.window_edges);
+  j.key("window_failed").value(st.window_failed);
+  j.key("threads").value(resolve_thread_count(b.num_threads));
+  j.key("seconds").value(st.refinement_seconds);
+  j.end_object();
   j.key("graph_vertices").value(slam.graph().num_vertices());
   j.key("graph_edges").value(slam.graph().num_edges());
   j.key("map_cells").begin_array().value(w.map_cells_x).value(w.map_cells_y).end_array();
@@ -232,6 +242,16 @@ void print_report(const Config& cfg, const std::string& log, const std::string& 
   } else {
     fmt::print("  pose graph: {} vertices, {} edges; not optimized (no loop closure)\n",
                slam.graph().num_vertices(), slam.graph().num_edges());
+  }
+  const LidarBackEndOptions& b = slam.options().backend;
+  if (b.scan_window > 0 && st.window_edges + st.window_failed > 0) {
+    fmt::print("  refinement: every scan aligned with the next {}: {} pairs aligned, {} not; {:.3f} s "
+               "on {} thread{}\n",
+               b.scan_window, st.window_edges, st.window_failed, st.refinement_seconds,
+               resolve_thread_count(b.num_threads), resolve_thread_count(b.num_threads) == 1 ? "" : "s");
+  } else {
+    fmt::print("  refinement: off ({})\n",
+               b.scan_window == 0 ? "[backend] scan_window = 0" : "no scan pair to align");
   }
   const double per_scan = st.scans ? res.mapping_seconds / static_cast<double>(st.scans) : 0.0;
   fmt::print("  time: mapping {:.3f} s ({:.3f} ms/scan; front-end {:.3f} s, insertion {:.3f} s, "
@@ -288,7 +308,9 @@ void run(const LidarSlamCliOptions& o) {
   if (!config_path.empty()) inputs.emplace_back(config_path);
   check_outputs_distinct(inputs, planned);
 
-  LidarSlam slam(cfg.slam);
+  LidarSlamOptions slam_options = cfg.slam;
+  if (o.threads) slam_options.backend.num_threads = resolve_thread_count(*o.threads, "--threads");
+  LidarSlam slam(slam_options);
   LidarSlamRunOptions ro;
   ro.max_scans = o.max_scans;
   ro.sensor_label = o.sensor;
@@ -348,6 +370,11 @@ void add_lidar_slam_command(CLI::App& app) {
                   "CARMEN logs: maximum range of FLASER/RLASER scans, meters, when the log has no "
                   "PARAM line stating it (default: the config's [CARMEN] maxRange, else 81)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", o->threads,
+                  fmt::format("threads of the final refinement's alignments, 1 to {}, 0 for all "
+                              "hardware threads (default: the config's [backend] num_threads, "
+                              "else 1; results do not depend on it)",
+                              kMaxThreads));
   cmd->callback([o] { run(*o); });
 }
 

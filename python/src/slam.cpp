@@ -206,6 +206,8 @@ py::dict lidar_slam_summary(const LidarSlamRun& r) {
     accepted += lc.outcome == LoopClosureOutcome::Accepted;
   d["loop_closures_accepted"] = accepted;
   d["poor_matches"] = r.result.poor_matches;
+  d["window_edges"] = st.window_edges;
+  d["window_failed"] = st.window_failed;
   if (r.result.final_optimization) {
     d["final_chi2"] = r.result.final_optimization->final_chi2;
     d["optimization"] = std::string(to_string(r.result.final_optimization->termination));

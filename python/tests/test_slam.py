@@ -92,6 +92,8 @@ def test_lidar_slam_equals_the_command_line(tmp_path):
     assert s["scans"] == cli["scans"] and s["nodes"] == cli["nodes"]
     assert s["submaps"] == cli["submaps"]
     assert s["loop_closures_accepted"] == cli["loops_accepted"]
+    assert s["window_edges"] == cli["refinement"]["window_edges"] > 0
+    assert s["window_failed"] == cli["refinement"]["window_failed"]
     assert r.graph.num_vertices == cli["graph_vertices"]
     assert (r.map.size_x, r.map.size_y) == tuple(cli["map_cells"])
     assert r.path.shape == (cli["scans"], 3)

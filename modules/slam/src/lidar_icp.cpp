@@ -61,11 +61,12 @@ SE2d remap(const IcpTarget2D& target, std::span<const Eigen::Vector2d> points_ro
 }  // namespace
 
 LidarIcpResult icp_align(const IcpTarget2D& target, std::span<const Eigen::Vector2d> points_robot,
-                         const SE2d& initial, double gate, double remap_threshold) {
+                         const SE2d& initial, double gate, double remap_threshold,
+                         int max_iterations) {
   Icp2dOptions o;
   o.algorithm = IcpAlgorithm::Classic;
   o.metric = Icp2dMetric::PointToLine;
-  o.max_iterations = 60;
+  o.max_iterations = max_iterations;
   o.threshold_dist = gate;
   o.threshold_ang = 0.0;
   o.alfa = 0.5;

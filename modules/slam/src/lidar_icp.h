@@ -35,9 +35,11 @@ struct LidarIcpResult {
 /// from `initial` is kept only along the eigenvectors of the pairs'
 /// point-to-line information (in x, y and θ times the points' RMS radius)
 /// whose eigenvalue is at least remap_threshold times the largest; along
-/// a corridor the pose stays where `initial` put it.
+/// a corridor the pose stays where `initial` put it. At most
+/// `max_iterations` iterations (>= 1).
 LidarIcpResult icp_align(const IcpTarget2D& target, std::span<const Eigen::Vector2d> points_robot,
-                         const SE2d& initial, double gate, double remap_threshold = 0.0);
+                         const SE2d& initial, double gate, double remap_threshold = 0.0,
+                         int max_iterations = 60);
 
 /// The points of `nodes` (indices into `all`) in the frame `T_frame_local`
 /// maps the local frame into, thinned to one per voxel of `voxel` meters,

@@ -7,7 +7,9 @@
 #include <utility>
 
 #include "rove/core/check.h"
+#include "rove/core/parallel.h"
 #include "rove/core/timer.h"
+#include "rove/registration/icp_target_2d.h"
 #include "rove/slam/grid_scan_matcher.h"
 #include "lidar_icp.h"
 
@@ -28,6 +30,14 @@ PoseGraph2D::Information information(double sigma_t, double sigma_r) {
 
 // The pose b relative to a: a⁻¹·b.
 SE2d between(const SE2d& a, const SE2d& b) { return a.inverse() * b; }
+
+// The final refinement's scan-to-scan ICP: at most this many iterations
+// (neighbouring scans start a few centimetres apart), and the scans whose
+// targets are built at once (bounds the memory of the KD-trees).
+constexpr int kWindowIcpIterations = 20;
+constexpr std::size_t kWindowChunk = 512;
+// A scan with fewer returns has no usable normals: its pairs fail.
+constexpr std::size_t kWindowMinPoints = 3;
 
 }  // namespace
 
@@ -74,6 +84,7 @@ SE2d LidarSlam::scan_local_pose(std::size_t i) const {
 
 SE2d LidarSlam::scan_pose(std::size_t i) const {
   ROVE_CHECK_LT(i, scans_.size());
+  if (!refined_.empty()) return refined_[i];
   const ScanRecord& r = scans_[i];
   // Node 0 is the graph's anchor at its front-end pose: the scans before it
   // keep theirs.
@@ -186,7 +197,8 @@ LidarSlamScanUpdate LidarSlam::process(const RangeScan2D& scan,
   }
   up.T_local_robot = pose;
   const std::ptrdiff_t last_node = static_cast<std::ptrdiff_t>(nodes_.size()) - 1;
-  scans_.push_back({time, pose, last_node});
+  scans_.push_back({time, pose, last_node, {}});
+  if (options_.backend.scan_window > 0) scans_.back().points = pts.points;
   stats_.frontend_seconds += sw.elapsed();
   if (up.has_points && motion_filter_passes(pose, time)) {
     add_node(scans_.size() - 1, time, pose, std::move(pts), std::move(keep), up);
@@ -447,13 +459,123 @@ void LidarSlam::optimize() {
   stats_.optimization_seconds += sw.elapsed();
 }
 
+GraphOptimizerResult LidarSlam::refine_scans() {
+  Stopwatch sw;
+  const auto& b = options_.backend;
+  const std::size_t n = scans_.size();
+  PoseGraph2D g;
+  const std::size_t anchor = nodes_.front().scan;
+  for (std::size_t i = 0; i < n; ++i) g.add_vertex(i, scan_pose(i), /*fixed=*/i == anchor);
+  for (std::size_t j = 0; j < submaps_.size(); ++j) {
+    const VertexId id = kLidarSubmapVertexBase + static_cast<VertexId>(j);
+    g.add_vertex(id, graph_.pose(id));
+  }
+  // The front-end's motion between consecutive scans, as the chain of nodes.
+  const PoseGraph2D::Information chain = information(b.translation_sigma, b.rotation_sigma);
+  for (std::size_t i = 1; i < n; ++i) {
+    g.add_edge(i - 1, i, between(scans_[i - 1].T_local_robot, scans_[i].T_local_robot), chain);
+  }
+  // The submaps' and loop closures' edges, on the scans that were nodes
+  // (the node-to-node chain is replaced by the scans' chain above).
+  const auto to_scan = [&](VertexId v) {
+    return v >= kLidarSubmapVertexBase ? v : static_cast<VertexId>(nodes_[v].scan);
+  };
+  for (PoseGraph2D::Edge e : graph_.edges()) {
+    if (e.from < kLidarSubmapVertexBase && e.to < kLidarSubmapVertexBase) continue;
+    e.from = to_scan(e.from);
+    e.to = to_scan(e.to);
+    g.add_edge(e);
+  }
+  // Each scan aligned with the next scan_window ones, a chunk of scans at a
+  // time: their targets built in parallel, then every pair's ICP in
+  // parallel, then the edges added in order (the same graph for any number
+  // of threads).
+  const auto window = static_cast<std::size_t>(b.scan_window);
+  const PoseGraph2D::Information window_info =
+      information(b.scan_window_translation_sigma, b.scan_window_rotation_sigma);
+  ThreadTeam team(resolve_thread_count(b.num_threads, "[backend] num_threads"));
+  IcpTarget2DOptions target_options;
+  target_options.normal_neighbors = 5;
+  for (std::size_t begin = 0; begin < n; begin += kWindowChunk) {
+    const std::size_t end = std::min(n, begin + kWindowChunk);
+    std::vector<std::unique_ptr<IcpTarget2D>> targets(end - begin);
+    parallel_for(end - begin, team, [&](std::size_t k) {
+      const auto& pts = scans_[begin + k].points;
+      if (pts.size() >= kWindowMinPoints) {
+        targets[k] = std::make_unique<IcpTarget2D>(pts, target_options);
+      }
+    });
+    struct Pair {
+      std::size_t from = 0, to = 0;
+    };
+    std::vector<Pair> pairs;
+    for (std::size_t i = begin; i < end; ++i) {
+      if (scans_[i].points.empty()) continue;
+      for (std::size_t j = i + 1; j < n && j <= i + window; ++j) {
+        if (!scans_[j].points.empty()) pairs.push_back({i, j});
+      }
+    }
+    std::vector<LidarIcpResult> results(pairs.size());
+    std::vector<char> tried(pairs.size(), 0);
+    parallel_for(pairs.size(), team, [&](std::size_t k) {
+      const IcpTarget2D* target = targets[pairs[k].from - begin].get();
+      if (target == nullptr) return;
+      tried[k] = 1;
+      results[k] = icp_align(*target, scans_[pairs[k].to].points,
+                             between(g.pose(pairs[k].from), g.pose(pairs[k].to)),
+                             b.scan_window_gate, /*remap_threshold=*/0.0, kWindowIcpIterations);
+    });
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      if (tried[k] != 0 && results[k].termination == RegistrationTermination::Converged) {
+        g.add_edge(pairs[k].from, pairs[k].to, results[k].T_target_robot, window_info);
+        ++stats_.window_edges;
+      } else {
+        ++stats_.window_failed;
+      }
+    }
+  }
+  for (ScanRecord& r : scans_) std::vector<Eigen::Vector2d>().swap(r.points);
+
+  Stopwatch so;
+  GraphOptimizerOptions go;
+  go.max_iterations = b.max_iterations;
+  go.num_threads = b.num_threads;
+  GraphOptimizerResult result = rove::optimize(g, go);
+  ++stats_.optimizations;
+  if (!result.ok()) ++stats_.optimizations_not_converged;
+  stats_.optimization_seconds += so.elapsed();
+
+  refined_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) refined_[i] = g.pose(i);
+  for (std::size_t k = 0; k < nodes_.size(); ++k) {
+    nodes_[k].T_world_robot = refined_[nodes_[k].scan];
+    graph_.set_pose(k, nodes_[k].T_world_robot);
+  }
+  for (std::size_t j = 0; j < submaps_.size(); ++j) {
+    const VertexId id = kLidarSubmapVertexBase + static_cast<VertexId>(j);
+    submaps_[j].T_world_submap = g.pose(id);
+    graph_.set_pose(id, submaps_[j].T_world_submap);
+  }
+  const LidarSlamNode& last = nodes_.back();
+  T_world_local_ = last.T_world_robot * last.T_local_robot.inverse();
+  stats_.refinement_seconds += sw.elapsed();
+  return result;
+}
+
 std::optional<GraphOptimizerResult> LidarSlam::finish() {
   if (finished_) return std::nullopt;
   finished_ = true;
   expire_pending(std::numeric_limits<std::size_t>::max() / 2);
-  if (loops_since_optimization_ == 0) return std::nullopt;
-  optimize();
-  return last_opt_;
+  bool ran = false;
+  if (loops_since_optimization_ > 0) {
+    optimize();
+    ran = true;
+  }
+  if (options_.backend.scan_window > 0 && !nodes_.empty()) {
+    last_opt_ = refine_scans();
+    ran = true;
+  }
+  return ran ? last_opt_ : std::nullopt;
 }
 
 }  // namespace rove

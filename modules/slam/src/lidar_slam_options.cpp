@@ -6,6 +6,7 @@
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
+#include "rove/core/parallel.h"
 
 namespace rove {
 namespace {
@@ -164,6 +165,12 @@ void LidarBackEndOptions::check() const {
   check_positive(submap_translation_sigma, "submap_translation_sigma");
   check_positive(submap_rotation_sigma, "submap_rotation_sigma");
   ROVE_CHECK_MSG(max_iterations >= 1, "max_iterations {} must be >= 1", max_iterations);
+  ROVE_CHECK_MSG(scan_window >= 0 && scan_window <= 20, "scan_window {} must lie in [0, 20]",
+                 scan_window);
+  check_positive(scan_window_translation_sigma, "scan_window_translation_sigma");
+  check_positive(scan_window_rotation_sigma, "scan_window_rotation_sigma");
+  check_positive(scan_window_gate, "scan_window_gate");
+  resolve_thread_count(num_threads, "[backend] num_threads");
 }
 
 LidarBackEndOptions LidarBackEndOptions::from_config(const ConfigSection& s) {
@@ -177,6 +184,13 @@ LidarBackEndOptions LidarBackEndOptions::from_config(const ConfigSection& s) {
   o.submap_rotation_sigma =
       get_degrees(s, "submap_rotation_sigma", o.submap_rotation_sigma, 1e-9, 360.0);
   o.max_iterations = get_int(s, "max_iterations", o.max_iterations, 1, 100000);
+  o.scan_window = get_int(s, "scan_window", o.scan_window, 0, 20);
+  o.scan_window_translation_sigma = s.get_in_range(
+      "scan_window_translation_sigma", o.scan_window_translation_sigma, 1e-9, 1e6);
+  o.scan_window_rotation_sigma =
+      get_degrees(s, "scan_window_rotation_sigma", o.scan_window_rotation_sigma, 1e-9, 360.0);
+  o.scan_window_gate = s.get_in_range("scan_window_gate", o.scan_window_gate, 1e-3, 100.0);
+  o.num_threads = get_int(s, "num_threads", o.num_threads, 0, kMaxThreads);
   s.check_all_read();
   return o;
 }

@@ -1,7 +1,8 @@
 // Lidar SLAM on the ACES building log (Radish, with the manually verified
 // relations of Kümmerle et al. 2009): the relation error of the defaults
-// must stay below graph mapping's 0.044 m reported by Kümmerle et al.
-// (docs/lidar-slam.md has the measured figures and Cartographer's).
+// must stay below graph mapping's 0.044 m reported by Kümmerle et al. and
+// below Cartographer's 0.0375 m (Hess et al. 2016, as the issue quotes it;
+// docs/lidar-slam.md has the measured figures).
 
 #include <gtest/gtest.h>
 
@@ -20,7 +21,7 @@
 namespace rove {
 namespace {
 
-TEST(LidarSlamDatasets, AcesRelationErrorBelowGraphMapping) {
+TEST(LidarSlamDatasets, AcesRelationErrorBelowGraphMappingAndCartographer) {
   const std::string log = test_data::shared_dataset("radish/aces.clf.bz2");
   const std::string rel = test_data::shared_dataset("radish/aces.relations");
   LidarSlam slam(LidarSlamOptions{});
@@ -43,9 +44,15 @@ TEST(LidarSlamDatasets, AcesRelationErrorBelowGraphMapping) {
               r.used, r.relations, r.translation.mean, r.translation.stddev, r.rotation.mean * deg,
               r.rotation.stddev * deg, slam.stats().loops_accepted, slam.stats().loop_searches);
   EXPECT_EQ(r.used, r.relations);
-  EXPECT_LT(r.translation.mean, 0.044);
-  EXPECT_LT(r.rotation.mean * deg, 0.6);
+  EXPECT_LT(r.translation.mean, 0.0375);
+  EXPECT_LT(r.rotation.mean * deg, 0.373);
   EXPECT_GT(slam.stats().loops_accepted, 50u);
+  // The final refinement paired each scan with the next two (every ACES
+  // scan has returns) and aligned most pairs.
+  const std::size_t n = slam.num_scans(), pairs = 2 * n - 3;
+  std::printf("[ACES] refinement: %zu of %zu scan pairs aligned\n", slam.stats().window_edges, pairs);
+  EXPECT_EQ(slam.stats().window_edges + slam.stats().window_failed, pairs);
+  EXPECT_GT(slam.stats().window_edges, pairs * 3 / 4);
 }
 
 }  // namespace

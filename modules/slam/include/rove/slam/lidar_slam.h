@@ -35,10 +35,23 @@
 ///    New nodes are placed in the world by the latest correction of the
 ///    local frame.
 ///
-/// Every scan's pose in the world is its front-end pose moved by the
-/// correction of the nodes around it (scan_pose).
+/// Final refinement (finish(), backend.scan_window > 0): the nodes are a
+/// sample of the scans, and the scans between them only follow their
+/// front-end poses. At the end every scan becomes a vertex of a second
+/// graph, joined to the next scan by its front-end motion (the chain's
+/// sigmas) and to each of the next scan_window scans by point-to-line ICP
+/// of their returns (a pair whose ICP does not converge or leaves a
+/// direction free adds nothing); the submaps and the accepted loop
+/// closures keep their edges, attached to the scans that were nodes, and
+/// the first node stays the anchor. One optimization of that graph gives
+/// every scan's pose, and the nodes and submaps take theirs from it.
 ///
-/// Thread-safety: thread-compatible. Everything runs on the calling thread.
+/// Otherwise every scan's pose in the world is its front-end pose moved by
+/// the correction of the nodes around it (scan_pose).
+///
+/// Thread-safety: thread-compatible. Everything runs on the calling thread,
+/// except the final refinement's alignments, on backend.num_threads threads
+/// (the result does not depend on their number).
 
 #include <cstddef>
 #include <cstdint>
@@ -197,6 +210,9 @@ struct LidarSlamStats {
   double insertion_seconds = 0.0;       ///< inserting nodes into submaps
   double loop_seconds = 0.0;            ///< loop-closure search (incl. max grids)
   double optimization_seconds = 0.0;    ///< graph optimization
+  std::size_t window_edges = 0;         ///< final refinement: scan pairs ICP aligned
+  std::size_t window_failed = 0;        ///< final refinement: scan pairs it could not
+  double refinement_seconds = 0.0;      ///< final refinement (alignments and optimization)
 };
 
 /// The lidar SLAM system. See the file comment.
@@ -222,20 +238,25 @@ class LidarSlam {
   LidarSlamScanUpdate add_scan(std::shared_ptr<const RangeScan2D> scan, Timestamp time,
                                const std::optional<SE2d>& odometry_increment = std::nullopt);
   /// Ends the run: the last optimization (when any loop closure was found
-  /// since the previous one) and the final poses. Returns that
-  /// optimization's result (std::nullopt when none was needed). Idempotent.
+  /// since the previous one), then the final refinement over every scan
+  /// (backend.scan_window > 0, when there is a node; see the file comment),
+  /// and the final poses. Returns the result of the last optimization run
+  /// here (std::nullopt when none was). Idempotent: a second call returns
+  /// std::nullopt.
   std::optional<GraphOptimizerResult> finish();
 
   /// Scans given so far.
   std::size_t num_scans() const noexcept { return scans_.size(); }
   /// Time of scan i. Precondition: i < num_scans().
   Timestamp scan_time(std::size_t i) const;
-  /// World pose T_world_robot of scan i. A node's is its optimized pose;
-  /// a scan between two nodes takes its front-end pose through the
-  /// correction C = T_world_robot · T_local_robot⁻¹ of those nodes,
-  /// interpolated on SE(2) by the scan's time between theirs (by its index
-  /// when times are missing); after the last node, that node's correction;
-  /// before the first node, its front-end pose. Precondition: i < num_scans().
+  /// World pose T_world_robot of scan i. After the final refinement, its
+  /// vertex's optimized pose. Before it (or without it): a node's is its
+  /// optimized pose; a scan between two nodes takes its front-end pose
+  /// through the correction C = T_world_robot · T_local_robot⁻¹ of those
+  /// nodes, interpolated on SE(2) by the scan's time between theirs (by its
+  /// index when times are missing); after the last node, that node's
+  /// correction; before the first node, its front-end pose.
+  /// Precondition: i < num_scans().
   SE2d scan_pose(std::size_t i) const;
   /// Front-end pose T_local_robot of scan i.
   SE2d scan_local_pose(std::size_t i) const;
@@ -259,6 +280,7 @@ class LidarSlam {
     Timestamp time;
     SE2d T_local_robot;
     std::ptrdiff_t node = -1;  // last node at or before the scan
+    std::vector<Eigen::Vector2d> points;  // returns in the robot frame, until the refinement
   };
 
   LidarSlamScanUpdate process(const RangeScan2D& scan, std::shared_ptr<const RangeScan2D> keep,
@@ -278,6 +300,7 @@ class LidarSlam {
   void accept_loop(std::size_t index);
   void expire_pending(std::size_t node);
   void optimize();
+  GraphOptimizerResult refine_scans();
   SE2d world_from_local(const SE2d& T_local) const { return T_world_local_ * T_local; }
 
   LidarSlamOptions options_;
@@ -294,6 +317,7 @@ class LidarSlam {
   std::size_t nodes_since_optimization_ = 0;
   std::size_t loops_since_optimization_ = 0;
   std::optional<GraphOptimizerResult> last_opt_;
+  std::vector<SE2d> refined_;  // every scan's pose after the final refinement
   std::shared_ptr<const IcpTarget2D> icp_target_;  // the front-end's ICP target
   int icp_target_submap_ = -1;                     // the submap it was built from
   std::size_t icp_target_nodes_ = 0;               // that submap's nodes then

@@ -184,6 +184,25 @@ struct LidarBackEndOptions {
   double submap_rotation_sigma = 0.5 * 3.14159265358979323846 / 180.0;
   /// (max_iterations) of each optimization, >= 1. Default 50.
   int max_iterations = 50;
+  /// (scan_window) the final refinement at finish(): every scan (not only
+  /// the nodes) becomes a vertex, joined to the next by its front-end
+  /// motion and aligned by point-to-line ICP with each of the next
+  /// scan_window scans; those alignments are edges of a graph that keeps
+  /// the submaps and loop closures, optimized once. 0 skips it (the nodes'
+  /// poses then place the scans between them). In [0, 20]. Default 2.
+  int scan_window = 2;
+  /// (scan_window_translation_sigma, scan_window_rotation_sigma in
+  /// degrees) standard deviations of a scan-to-scan ICP edge. Defaults
+  /// 0.01 m, 0.1°.
+  double scan_window_translation_sigma = 0.01;
+  double scan_window_rotation_sigma = 0.1 * 3.14159265358979323846 / 180.0;
+  /// (scan_window_gate) ICP's initial pairing distance of those
+  /// alignments, meters, > 0; a pair whose ICP does not converge (or whose
+  /// geometry leaves a direction free) adds no edge. Default 0.3.
+  double scan_window_gate = 0.3;
+  /// (num_threads) threads of the final refinement's alignments; 0 = all
+  /// hardware threads. The result does not depend on it. Default 1.
+  int num_threads = 1;
 
   /// Throws InvalidArgument naming the first field out of range.
   void check() const;
