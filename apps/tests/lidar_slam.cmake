@@ -10,9 +10,9 @@ set(rove_ls_expect ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
 # The defaults on the bundled log write every file and say what they did.
 add_test(NAME cli.lidar_slam_telecom COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> lidar-slam --no-progress ${rove_ls_telecom} -o ${rove_ls_dir}/telecom"
-  -DEXIT=0 "-DREGEX=lidar-slam: 225 scans .*front-end: 224 matched.*loop closure: [0-9]+ searches.*wrote 9 files.*issues: none"
+  -DEXIT=0 "-DREGEX=lidar-slam: 225 scans .*front-end: 224 matched.*loop closure: [0-9]+ searches.*refinement: every scan aligned with the next 2: [1-9][0-9]+ pairs aligned, [0-9]+ not.*on 1 thread.*wrote 9 files.*issues: none"
   -DFILE=${rove_ls_dir}/telecom/summary.json
-  "-DFILE_REGEX=\"scans\": 225,.*\"nodes\": [1-9][0-9]*,.*\"real_time_factor\": [0-9.]+,.*\"issues\": \\[\\]"
+  "-DFILE_REGEX=\"scans\": 225,.*\"nodes\": [1-9][0-9]*,.*\"refinement\": {[^}]*\"scan_window\": 2,[^}]*\"window_edges\": [1-9][0-9]+,.*\"real_time_factor\": [0-9.]+,.*\"issues\": \\[\\]"
   -P ${rove_ls_expect})
 add_test(NAME cli.lidar_slam_json COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> lidar-slam --json --no-progress --max-scans 50 ${rove_ls_telecom} -o ${rove_ls_dir}/json"
@@ -77,6 +77,15 @@ add_test(NAME cli.lidar_slam_output_is_input COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> lidar-slam --no-progress ${rove_ls_dir}/same/path.tum -o ${rove_ls_dir}/same"
   -DEXIT=1 "-DREGEX=refusing to write over the input" -DKEEP=${rove_ls_dir}/same/path.tum
   -DREF=${rove_ls_telecom} -P ${rove_ls_expect})
+# --threads: the same path on two threads; a count out of range is refused.
+add_test(NAME cli.lidar_slam_threads COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> lidar-slam --no-progress --threads 2 ${rove_ls_telecom} -o ${rove_ls_dir}/threads"
+  -DEXIT=0 "-DREGEX=refinement: every scan aligned with the next 2: .* on 2 threads"
+  -DKEEP=${rove_ls_dir}/threads/path.tum -DREF=${rove_ls_dir}/telecom/path.tum -P ${rove_ls_expect})
+set_tests_properties(cli.lidar_slam_threads PROPERTIES DEPENDS cli.lidar_slam_telecom)
+add_test(NAME cli.lidar_slam_bad_threads COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> lidar-slam --no-progress --threads -2 ${rove_ls_telecom} -o ${rove_ls_dir}/bad_threads"
+  -DEXIT=1 "-DREGEX=--threads.*-2" -DABSENT=${rove_ls_dir}/bad_threads/path.tum -P ${rove_ls_expect})
 # Usage: no log, three positional arguments.
 add_test(NAME cli.lidar_slam_usage COMMAND rove lidar-slam --no-progress)
 add_test(NAME cli.lidar_slam_too_many COMMAND rove lidar-slam a.ini b.log c.log)
@@ -86,4 +95,4 @@ set_tests_properties(cli.lidar_slam_telecom cli.lidar_slam_json cli.lidar_slam_c
   cli.lidar_slam_misspelt_key cli.lidar_slam_unknown_section cli.lidar_slam_no_loop_closure
   cli.lidar_slam_no_scans cli.lidar_slam_one_scan cli.lidar_slam_no_valid_range
   cli.lidar_slam_text_is_not_a_log cli.lidar_slam_output_is_input cli.lidar_slam_usage
-  cli.lidar_slam_too_many PROPERTIES LABELS cli)
+  cli.lidar_slam_too_many cli.lidar_slam_threads cli.lidar_slam_bad_threads PROPERTIES LABELS cli)
