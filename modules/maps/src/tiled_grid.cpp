@@ -561,8 +561,51 @@ TiledScanPoints TiledLikelihoodField::prepare(const RangeScan2D& scan) const {
   return p;
 }
 
+TiledDistanceMemo::TiledDistanceMemo(int capacity_log2) {
+  ROVE_CHECK_MSG(capacity_log2 >= 4 && capacity_log2 <= 24, "capacity_log2 = {} is outside [4, 24]",
+                 capacity_log2);
+  const std::size_t n = std::size_t{1} << capacity_log2;
+  slots_.assign(n, Slot{});
+  shift_ = 64 - capacity_log2;
+}
+
+void TiledDistanceMemo::clear() noexcept {
+  size_ = 0;
+  if (++generation_ == 0) {  // after 2^32 clears: forget the stamps for real
+    for (Slot& slot : slots_) slot.stamp = 0;
+    generation_ = 1;
+  }
+}
+
+std::uint32_t TiledLikelihoodField::distance(const TiledGrid& grid, int cx, int cy,
+                                             TiledDistanceMemo* memo) const {
+  if (memo == nullptr) return grid.squared_distance(cx, cy, radius_);
+  TiledDistanceMemo& m = *memo;
+  const std::uint64_t key = (std::uint64_t{static_cast<std::uint32_t>(cx)} << 32) |
+                            std::uint64_t{static_cast<std::uint32_t>(cy)};
+  // Fibonacci hashing, then linear probing.
+  const std::size_t mask = m.slots_.size() - 1;
+  std::size_t i = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> m.shift_);
+  for (;; i = (i + 1) & mask) {
+    const TiledDistanceMemo::Slot& slot = m.slots_[i];
+    if (slot.stamp != m.generation_) break;
+    if (slot.key == key) {
+      ++m.hits_;
+      return slot.value;
+    }
+  }
+  ++m.misses_;
+  const std::uint32_t d2 = grid.squared_distance(cx, cy, radius_);
+  if (2 * (m.size_ + 1) <= m.slots_.size()) {
+    m.slots_[i] = {key, d2, m.generation_};
+    ++m.size_;
+  }
+  return d2;
+}
+
 double TiledLikelihoodField::point_sum(const TiledGrid& grid, const TiledScanPoints& scan,
-                                       const SE2d& T_map_robot, double stop_below) const {
+                                       const SE2d& T_map_robot, double stop_below,
+                                       TiledDistanceMemo* memo) const {
   const std::size_t n = scan.xs.size();
   const Eigen::Vector2d cs = T_map_robot.rotation().unit_complex();
   const Eigen::Vector2d& t = T_map_robot.translation();
@@ -570,7 +613,7 @@ double TiledLikelihoodField::point_sum(const TiledGrid& grid, const TiledScanPoi
   for (std::size_t j = 0; j < n; ++j) {
     const double wx = t.x() + scan.xs[j] * cs.x() - scan.ys[j] * cs.y();
     const double wy = t.y() + scan.xs[j] * cs.y() + scan.ys[j] * cs.x();
-    const std::uint32_t d2 = grid.squared_distance(grid.to_idx(wx), grid.to_idx(wy), radius_);
+    const std::uint32_t d2 = distance(grid, grid.to_idx(wx), grid.to_idx(wy), memo);
     sum += d2 < cap_cells_ ? value_[d2] : capped_;
     // Checked every 8 points: the bound costs a multiplication.
     if ((j & 7u) == 7u) {
@@ -589,7 +632,8 @@ double TiledLikelihoodField::log_likelihood(const TiledGrid& grid, const TiledSc
   if (!scan.usable) return -10.0;
   const std::size_t n = scan.xs.size();
   if (n == 0) return -100.0;
-  const double sum = point_sum(grid, scan, T_map_robot, -std::numeric_limits<double>::infinity());
+  const double sum =
+      point_sum(grid, scan, T_map_robot, -std::numeric_limits<double>::infinity(), nullptr);
   return options_.lf_alternate_average_method ? std::log(sum / static_cast<double>(n)) : sum;
 }
 
@@ -601,7 +645,19 @@ double TiledLikelihoodField::log_likelihood_above(const TiledGrid& grid, const T
   ROVE_CHECK_MSG(grid.resolution() == resolution_,
                  "the grid's resolution {} is not the likelihood field's {}", grid.resolution(),
                  resolution_);
-  return point_sum(grid, scan, T_map_robot, stop_below);
+  return point_sum(grid, scan, T_map_robot, stop_below, nullptr);
+}
+
+double TiledLikelihoodField::log_likelihood_above(const TiledGrid& grid, const TiledScanPoints& scan,
+                                                  const SE2d& T_map_robot, double stop_below,
+                                                  TiledDistanceMemo& memo) const {
+  if (options_.lf_alternate_average_method || !scan.usable || scan.xs.empty()) {
+    return log_likelihood(grid, scan, T_map_robot);
+  }
+  ROVE_CHECK_MSG(grid.resolution() == resolution_,
+                 "the grid's resolution {} is not the likelihood field's {}", grid.resolution(),
+                 resolution_);
+  return point_sum(grid, scan, T_map_robot, stop_below, &memo);
 }
 
 double TiledLikelihoodField::fit(const TiledGrid& grid, const TiledScanPoints& scan,

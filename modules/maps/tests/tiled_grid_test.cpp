@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "rove/core/error.h"
 #include "rove/maps/grid_insertion.h"
 #include "rove/maps/grid_likelihood.h"
 #include "rove/maps/occupancy_grid.h"
@@ -228,6 +229,46 @@ TEST(TiledGrid, LikelihoodAboveAFloorStopsOnlyBelowIt) {
     }
   }
   EXPECT_GT(stopped, 50);
+}
+
+TEST(TiledGrid, DistanceMemoGivesTheSameLikelihoods) {
+  std::mt19937_64 rng(13);
+  GridInsertionOptions ins;
+  TiledGrid tiled(kRes);
+  for (const SE2d& p : poses()) insert_scan(tiled, room_scan(p, rng), p, ins);
+  GridLikelihoodOptions lo;
+  lo.lf_max_corrs_distance = 0.3f;
+  lo.lf_std_hit = 0.05f;
+  const TiledLikelihoodField field(kRes, lo, ins);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // A large memo and one of 16 slots (8 kept, the rest computed each time).
+  TiledDistanceMemo memo, tiny(4);
+  const double none = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 20; ++i) {
+    const SE2d pose(kOff + 0.5 + u(rng), kOff + 1.0 + u(rng), 3.0 * u(rng));
+    const TiledScanPoints pts = field.prepare(room_scan(pose, rng));
+    // Nearby poses of one proposal: their points share cells.
+    for (int k = 0; k < 30; ++k) {
+      const SE2d guess(pose.translation().x() + 0.05 * u(rng), pose.translation().y() + 0.05 * u(rng),
+                       pose.angle() + 0.02 * u(rng));
+      const double exact = field.log_likelihood(tiled, pts, guess);
+      ASSERT_EQ(field.log_likelihood_above(tiled, pts, guess, none, memo), exact) << i << " " << k;
+      ASSERT_EQ(field.log_likelihood_above(tiled, pts, guess, none, tiny), exact) << i << " " << k;
+      const double floor = exact + 5.0;
+      ASSERT_EQ(field.log_likelihood_above(tiled, pts, guess, floor, memo),
+                field.log_likelihood_above(tiled, pts, guess, floor));
+    }
+  }
+  EXPECT_GT(memo.hits(), 2 * memo.misses());  // most lookups found their cell
+  EXPECT_GT(tiny.misses(), memo.misses());
+  // After an insertion the memo is cleared and agrees with the new grid.
+  const SE2d extra(kOff + 2.0, kOff + 2.0, 0.3);
+  insert_scan(tiled, room_scan(extra, rng), extra, ins);
+  memo.clear();
+  const TiledScanPoints pts = field.prepare(room_scan(extra, rng));
+  EXPECT_EQ(field.log_likelihood_above(tiled, pts, extra, none, memo),
+            field.log_likelihood(tiled, pts, extra));
+  EXPECT_THROW(TiledDistanceMemo(3), InvalidArgument);
 }
 
 TEST(TiledGrid, CopiesShareTilesAndWritesNeverLeak) {

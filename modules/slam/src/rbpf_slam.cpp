@@ -105,9 +105,16 @@ Gaussian3 weighted_gaussian(const std::vector<Vec3>& v, const std::vector<double
 Proposal propose_optimal(const RbpfParticle& p, const UpdateContext& c, Rng& rng) {
   // log p(z | x, m) + log p(x | x', u), or a value ≤ floor once it is
   // sure to be below floor (the likelihood field stops early).
+  // The poses evaluated lie close together: their points fall in the same
+  // cells of the particle's map again and again (the values are the same
+  // as without the memo).
+  thread_local TiledDistanceMemo memo;
+  memo.clear();
   const auto target = [&](const Vec3& v, double floor) {
     const double prior = c.prior.log_density(v);
-    return c.field.log_likelihood_above(p.map, c.points, apply_increment(p.pose, v), floor - prior) + prior;
+    return c.field.log_likelihood_above(p.map, c.points, apply_increment(p.pose, v), floor - prior,
+                                        memo) +
+           prior;
   };
   const Vec3 mode = climb(target, c.prior.mean, 2.0 * c.match_std);
   const Mat3 floor = diag_sq(0.25 * c.match_std);

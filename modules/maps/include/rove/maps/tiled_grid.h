@@ -227,6 +227,39 @@ std::uint32_t TiledGrid::squared_distance(int cx, int cy, int max_cells) const n
 TiledInsertResult insert_scan(TiledGrid& grid, const RangeScan2D& scan, const SE2d& T_map_robot,
                               const GridInsertionOptions& options = {});
 
+/// The squared distances to the nearest occupied cell already found in one
+/// state of one TiledGrid, for many likelihood evaluations of nearby poses
+/// against it (a particle filter's proposal): the points of neighbouring
+/// poses fall in the same cells again and again. An open-addressing table
+/// of 2^capacity_log2 cells; once half full, further cells are computed
+/// without being kept. The values are exactly those computed without it.
+/// clear() before using it with another grid, another state of the same
+/// grid (after an insertion) or another search radius: it cannot tell.
+/// Not thread-safe: one per thread.
+class TiledDistanceMemo {
+ public:
+  /// Precondition (InvalidArgument): 4 <= capacity_log2 <= 24.
+  explicit TiledDistanceMemo(int capacity_log2 = 14);
+  /// Forgets every cell, in O(1).
+  void clear() noexcept;
+  /// Lookups answered from the table and cells computed since construction.
+  std::size_t hits() const noexcept { return hits_; }
+  std::size_t misses() const noexcept { return misses_; }
+
+ private:
+  friend class TiledLikelihoodField;
+  struct Slot {
+    std::uint64_t key = 0;    // the cell (x in the high half, y in the low)
+    std::uint32_t value = 0;  // its squared distance
+    std::uint32_t stamp = 0;  // the slot holds a cell when this is generation_
+  };
+  std::vector<Slot> slots_;  // one cache line holds four
+  std::uint32_t generation_ = 1;
+  std::size_t size_ = 0;
+  int shift_ = 0;
+  std::size_t hits_ = 0, misses_ = 0;
+};
+
 /// A scan's points ready for repeated likelihood evaluation in tiled grids:
 /// the points of MRPT's likelihood-field method (mrpt_scan_points with half
 /// a cell of minimum spacing, then one in LF_decimation when there are 10
@@ -271,6 +304,12 @@ class TiledLikelihoodField {
   /// mean, no running bound) it never stops early.
   double log_likelihood_above(const TiledGrid& grid, const TiledScanPoints& scan,
                               const SE2d& T_map_robot, double stop_below) const;
+  /// As above, with the distances looked up in and added to `memo`, which
+  /// must hold only distances of `grid` in its present state (see
+  /// TiledDistanceMemo). The same value as without it.
+  double log_likelihood_above(const TiledGrid& grid, const TiledScanPoints& scan,
+                              const SE2d& T_map_robot, double stop_below,
+                              TiledDistanceMemo& memo) const;
   /// Fraction of the prepared points within LF_maxCorrsDistance of an
   /// occupied cell with the robot at T_map_robot (1 for no points).
   double fit(const TiledGrid& grid, const TiledScanPoints& scan, const SE2d& T_map_robot) const;
@@ -282,7 +321,9 @@ class TiledLikelihoodField {
  private:
   // Sum of the points' values, or its upper bound once below stop_below.
   double point_sum(const TiledGrid& grid, const TiledScanPoints& scan, const SE2d& T_map_robot,
-                   double stop_below) const;
+                   double stop_below, TiledDistanceMemo* memo) const;
+  // The squared distance of cell (cx, cy), through `memo` when given.
+  std::uint32_t distance(const TiledGrid& grid, int cx, int cy, TiledDistanceMemo* memo) const;
   float resolution_;
   GridLikelihoodOptions options_;
   GridInsertionOptions insertion_;
