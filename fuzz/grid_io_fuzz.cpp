@@ -1,5 +1,6 @@
 // libFuzzer target for the occupancy-grid file readers: the same bytes go to
-// the PNG and PGM decoders, the map.yaml parser, rove's binary grid record
+// the PNG and PGM decoders (gray, and the colour and depth images of RGB-D
+// frames), the map.yaml parser, rove's binary grid record
 // and MRPT's serialized COccupancyGridMap2D (.gridmap). Any bytes must
 // either read or be rejected with a rove::Error; what reads must survive a
 // write/read round trip unchanged, an image must become a grid of its size,
@@ -13,6 +14,7 @@
 #include <string_view>
 
 #include "rove/core/error.h"
+#include "rove/io/frame_images.h"
 #include "rove/io/gray_image.h"
 #include "rove/io/grid_binary.h"
 #include "rove/io/grid_image.h"
@@ -66,6 +68,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     check_image(rove::decode_pgm(bytes, "fuzz.pgm", limits));
+  } catch (const rove::Error&) {
+  }
+  try {
+    const rove::ColorImage8 c = rove::decode_color_image(bytes, "fuzz.png", limits);
+    if (c.width == 0 || c.height == 0 || c.rgb.size() != std::size_t{3} * c.width * c.height) {
+      die("decoded colour image has inconsistent sizes");
+    }
+  } catch (const rove::Error&) {
+  }
+  try {
+    const rove::DepthImage16 d = rove::decode_depth_image(bytes, "fuzz.png", limits);
+    if (d.width == 0 || d.height == 0 || d.values.size() != std::size_t{d.width} * d.height) {
+      die("decoded depth image has inconsistent sizes");
+    }
   } catch (const rove::Error&) {
   }
   try {

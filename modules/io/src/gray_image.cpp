@@ -1,9 +1,11 @@
 #include "rove/io/gray_image.h"
+#include "rove/io/frame_images.h"
 
 #include <png.h>
 #include <zlib.h>
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <csetjmp>
 #include <cstdio>
@@ -83,7 +85,13 @@ struct PngHeader {
   std::size_t rowbytes_out = 0;
 };
 
-bool png_read_header(png_structp png, png_infop info, PngHeader* h) {
+// What the decoded samples become: 8-bit gray or colour channels as stored
+// (gray images), 8-bit RGB (colour frames), or the 16-bit samples of a
+// single-channel image in native byte order (depth frames; other images are
+// left as they are for the caller to refuse).
+enum class PngTarget { Gray8, Rgb8, Native16 };
+
+bool png_read_header(png_structp png, png_infop info, PngHeader* h, PngTarget target = PngTarget::Gray8) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_read_info(png, info);
   h->width = png_get_image_width(png, info);
@@ -92,10 +100,20 @@ bool png_read_header(png_structp png, png_infop info, PngHeader* h) {
   h->color_type = png_get_color_type(png, info);
   h->interlace = png_get_interlace_type(png, info);
   h->channels_in = png_get_channels(png, info);
-  if (h->bit_depth == 16) png_set_strip_16(png);
+  if (target == PngTarget::Native16) {
+    if constexpr (std::endian::native == std::endian::little) {
+      if (h->bit_depth == 16) png_set_swap(png);
+    }
+  } else if (h->bit_depth == 16) {
+    png_set_strip_16(png);
+  }
   if (h->color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
   if (h->color_type == PNG_COLOR_TYPE_GRAY && h->bit_depth < 8) {
     png_set_expand_gray_1_2_4_to_8(png);
+  }
+  if (target == PngTarget::Rgb8) {
+    if ((h->color_type & PNG_COLOR_MASK_COLOR) == 0) png_set_gray_to_rgb(png);
+    if ((h->color_type & PNG_COLOR_MASK_ALPHA) != 0) png_set_strip_alpha(png);
   }
   if (h->interlace != PNG_INTERLACE_NONE) (void)png_set_interlace_handling(png);
   png_read_update_info(png, info);
@@ -313,6 +331,150 @@ GrayImage decode_png(std::span<const std::uint8_t> data, std::string_view source
     }
   }
   return img;
+}
+
+namespace {
+
+// The samples of a PNG decoded for `target`, rows top to bottom: 3 bytes a
+// pixel for Rgb8, 2 (native order) for a 16-bit single-channel Native16;
+// `h` says what the file holds. For Native16 an image of another kind is
+// refused by `refuse(h)` before its rows are decoded.
+template <typename Refuse>
+std::vector<std::uint8_t> decode_png_samples(std::span<const std::uint8_t> data, std::string_view source,
+                                             const ImageLimits& limits, PngTarget target,
+                                             PngHeader& h, Refuse&& refuse) {
+  static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (data.size() < 8 || std::memcmp(data.data(), kSignature, 8) != 0) {
+    const bool prefix =
+        data.size() < 8 && std::equal(data.begin(), data.end(), std::begin(kSignature));
+    fail(source, 0, "signature",
+         prefix ? "truncated PNG: incomplete signature" : "not a PNG file (bad signature)");
+  }
+  PngInput in;
+  in.data = data.data();
+  in.size = data.size();
+  PngReadGuard g;
+  g.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, in.message, png_error_callback,
+                                 png_warning_callback);
+  if (g.png != nullptr) g.info = png_create_info_struct(g.png);
+  if (g.png == nullptr || g.info == nullptr) throw IoError(std::string(source), "cannot create the PNG decoder");
+  png_set_read_fn(g.png, &in, png_read_callback);
+  png_set_user_limits(g.png, limits.max_side, limits.max_side);
+  png_set_chunk_malloc_max(g.png, 8u << 20);
+  png_set_chunk_cache_max(g.png, 1000);
+  const auto png_fail = [&](std::string_view field) {
+    fail(source, in.pos, field,
+         in.ran_out ? std::string("truncated PNG: unexpected end of data")
+                    : fmt::format("invalid PNG: {}", in.message));
+  };
+  if (!png_read_header(g.png, g.info, &h, target)) png_fail("header");
+  check_declared_size(source, 16, h.width, h.height, limits);
+  if (target == PngTarget::Native16) refuse(h);
+  const std::uint64_t raw_row =
+      (static_cast<std::uint64_t>(h.width) * static_cast<unsigned>(h.bit_depth * h.channels_in) + 7) / 8 + 1;
+  const std::uint64_t left = data.size() - in.pos;
+  if (raw_row * h.height > 1032 * left + 1032) {
+    fail(source, 16, "size",
+         fmt::format("declares {} x {} pixels ({} bytes of scanlines), more than the {} bytes "
+                     "left in the file can hold",
+                     h.width, h.height, raw_row * h.height, left));
+  }
+  check_memory_budget(checked_bytes(static_cast<std::uint64_t>(h.rowbytes_out) * h.height, 1),
+                      fmt::format("{}: {} \u00d7 {} pixels", source, h.width, h.height));
+  std::vector<std::uint8_t> buf(h.rowbytes_out * h.height);
+  std::vector<png_bytep> rows(h.height);
+  for (std::uint32_t y = 0; y < h.height; ++y) rows[y] = buf.data() + h.rowbytes_out * y;
+  if (!png_read_whole(g.png, g.info, rows.data())) png_fail("image data");
+  return buf;
+}
+
+// "8-bit with 3 channel(s)" for the refusal of a depth image.
+[[noreturn]] void refuse_depth(std::string_view source, std::uint64_t offset, unsigned bits,
+                               unsigned channels) {
+  fail(source, offset, "depth image",
+       fmt::format("a depth image must be 16-bit with one channel; this one is {}-bit with {} "
+                   "channel(s) (an 8-bit depth image has lost its range)",
+                   bits, channels));
+}
+
+}  // namespace
+
+ColorImage8 decode_color_image(std::span<const std::uint8_t> data, std::string_view source,
+                               const ImageLimits& limits) {
+  if (data.size() >= 2 && data[0] == 'P' && data[1] >= '1' && data[1] <= '7') {
+    fail(source, 0, "magic", "a colour image must be a PNG file; this is a Netpbm file");
+  }
+  PngHeader h;
+  std::vector<std::uint8_t> rgb =
+      decode_png_samples(data, source, limits, PngTarget::Rgb8, h, [](const PngHeader&) {});
+  ROVE_CHECK_EQ(h.rowbytes_out, std::size_t{3} * h.width);
+  return {h.width, h.height, std::move(rgb)};
+}
+
+DepthImage16 decode_depth_image(std::span<const std::uint8_t> data, std::string_view source,
+                                const ImageLimits& limits) {
+  DepthImage16 out;
+  if (!data.empty() && data[0] == 'P') {
+    if (data.size() < 2) fail(source, 0, "magic", "truncated PGM: no magic number");
+    if (data[1] == '2') fail(source, 0, "magic", "a depth PGM must be binary (P5), not ASCII (P2)");
+    if (data[1] != '5') fail(source, 0, "magic", "not a PGM depth image (expected P5)");
+    PgmCursor c(data, source);
+    c.advance(2);
+    if (c.remaining() > 0 && !std::isspace(*c.here()) && *c.here() != '#') {
+      fail(source, 2, "magic", "expected whitespace after the magic number");
+    }
+    const std::size_t size_at = c.pos();
+    const std::uint64_t w = c.number("width", std::uint64_t{1} << 32);
+    const std::uint64_t h = c.number("height", std::uint64_t{1} << 32);
+    const std::uint64_t maxval = c.number("maxval", 65535);
+    if (maxval == 0) fail(source, c.pos(), "maxval", "maxval must be 1 to 65535, got 0");
+    if (maxval < 256) refuse_depth(source, size_at, 8, 1);
+    check_declared_size(source, size_at, w, h, limits);
+    if (c.remaining() == 0) fail(source, c.pos(), "maxval", "truncated PGM: no image data");
+    c.advance(1);
+    const std::uint64_t n = w * h;
+    if (2 * n > c.remaining()) {
+      fail(source, c.pos(), "image data",
+           fmt::format("truncated PGM: {} x {} pixels need {} bytes, {} remain", w, h, 2 * n,
+                       c.remaining()));
+    }
+    out.width = static_cast<std::uint32_t>(w);
+    out.height = static_cast<std::uint32_t>(h);
+    out.values.resize(n);
+    const std::uint8_t* p = c.here();
+    for (std::uint64_t i = 0; i < n; ++i) {
+      const auto v = static_cast<std::uint16_t>((p[2 * i] << 8) | p[2 * i + 1]);
+      if (v > maxval) {
+        fail(source, c.pos() + 2 * i, "image data", fmt::format("sample {} above maxval {}", v, maxval));
+      }
+      out.values[i] = v;
+    }
+    return out;
+  }
+  PngHeader h;
+  const std::vector<std::uint8_t> bytes =
+      decode_png_samples(data, source, limits, PngTarget::Native16, h, [&](const PngHeader& hh) {
+        if (hh.bit_depth != 16 || hh.color_type != PNG_COLOR_TYPE_GRAY) {
+          refuse_depth(source, 16, static_cast<unsigned>(hh.bit_depth),
+                       static_cast<unsigned>(hh.channels_in));
+        }
+      });
+  ROVE_CHECK_EQ(h.rowbytes_out, std::size_t{2} * h.width);
+  out.width = h.width;
+  out.height = h.height;
+  out.values.resize(static_cast<std::size_t>(h.width) * h.height);
+  std::memcpy(out.values.data(), bytes.data(), bytes.size());
+  return out;
+}
+
+ColorImage8 read_color_image(const std::string& path, const ImageLimits& limits) {
+  const auto bytes = read_file_bytes(path, 0, "colour image");
+  return decode_color_image(bytes, path, limits);
+}
+
+DepthImage16 read_depth_image(const std::string& path, const ImageLimits& limits) {
+  const auto bytes = read_file_bytes(path, 0, "depth image");
+  return decode_depth_image(bytes, path, limits);
 }
 
 GrayImage decode_pgm(std::span<const std::uint8_t> data, std::string_view source,

@@ -4,67 +4,34 @@
 #include <cstring>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "rove/core/check.h"
 #include "rove/core/error.h"
 #include "rove/core/files.h"
+#include "rove/io/frame_images.h"
 
 namespace rove {
-namespace {
-
-cv::Mat decode(const std::string& path, int flags, std::string_view what) {
-  check_regular_input(path, what);
-  cv::Mat m = cv::imread(path, flags);
-  if (m.empty()) {
-    throw ParseError({path, std::nullopt, std::nullopt, std::string(what)},
-                     fmt::format("not an image file OpenCV can decode ({})", what));
-  }
-  return m;
-}
-
-std::string depth_type_name(int type) {
-  switch (CV_MAT_DEPTH(type)) {
-    case CV_8U: return "8-bit";
-    case CV_16U: return "16-bit";
-    case CV_32F: return "32-bit float";
-    default: return fmt::format("OpenCV type {}", type);
-  }
-}
-
-}  // namespace
 
 RgbdFrame read_rgbd_frame(const std::string& color_path, const std::string& depth_path,
                           double depth_scale) {
   ROVE_CHECK_MSG(std::isfinite(depth_scale) && depth_scale > 0.0,
                  "read_rgbd_frame: depth_scale = {} must be finite and > 0", depth_scale);
-  cv::Mat bgr = decode(color_path, cv::IMREAD_COLOR, "color image");
-  cv::Mat depth = decode(depth_path, cv::IMREAD_UNCHANGED, "depth image");
-  if (depth.type() != CV_16UC1) {
-    throw ParseError(
-        {depth_path, std::nullopt, std::nullopt, "depth image"},
-        fmt::format("a depth image must be 16-bit with one channel; this one is {} with {} "
-                    "channel(s) (an 8-bit depth image has lost its range)",
-                    depth_type_name(depth.type()), depth.channels()));
-  }
-  if (bgr.rows != depth.rows || bgr.cols != depth.cols) {
+  check_regular_input(color_path, "color image");
+  check_regular_input(depth_path, "depth image");
+  ColorImage8 color = read_color_image(color_path);
+  DepthImage16 depth = read_depth_image(depth_path);
+  if (color.width != depth.width || color.height != depth.height) {
     throw ParseError({depth_path, std::nullopt, std::nullopt, "depth image"},
                      fmt::format("depth image is {}x{} but its color image '{}' is {}x{}",
-                                 depth.cols, depth.rows, printable(color_path), bgr.cols,
-                                 bgr.rows));
+                                 depth.width, depth.height, printable(color_path), color.width,
+                                 color.height));
   }
   RgbdFrame frame;
-  const auto w = static_cast<std::uint32_t>(bgr.cols), h = static_cast<std::uint32_t>(bgr.rows);
-  frame.color = Image::zeros(w, h, 3, PixelType::U8);
-  cv::Mat rgb(bgr.rows, bgr.cols, CV_8UC3, frame.color.data.data());
-  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  frame.depth = DepthImage::zeros_u16(w, h, depth_scale);
+  frame.color = Image::zeros(color.width, color.height, 3, PixelType::U8);
+  frame.color.data = std::move(color.rgb);
+  frame.depth = DepthImage::zeros_u16(depth.width, depth.height, depth_scale);
   auto& values = std::get<std::vector<std::uint16_t>>(frame.depth.values);
-  for (int r = 0; r < depth.rows; ++r) {
-    std::memcpy(values.data() + static_cast<std::size_t>(r) * w, depth.ptr<std::uint16_t>(r),
-                w * sizeof(std::uint16_t));
-  }
+  values = std::move(depth.values);
   for (const std::uint16_t v : values) frame.valid_depth_pixels += v != 0 ? 1 : 0;
   if (frame.valid_depth_pixels == 0) {
     throw ParseError({depth_path, std::nullopt, std::nullopt, "depth image"},

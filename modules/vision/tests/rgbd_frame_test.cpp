@@ -4,7 +4,10 @@
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include <cstring>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "rove/core/error.h"
 #include "rove/vision/rgbd_frame.h"
@@ -148,7 +151,69 @@ TEST_F(VisionRgbdFiles, BadInputNamesTheFile) {
   EXPECT_NE(e.find("missing.png"), std::string::npos) << e;
   e = error_of(text, small);
   EXPECT_NE(e.find("text.png"), std::string::npos) << e;
-  EXPECT_NE(e.find("not an image"), std::string::npos) << e;
+  EXPECT_NE(e.find("not a PNG file"), std::string::npos) << e;
+  // JPEG colour images are refused by name (rove reads PNG frames).
+  const std::string jpeg = write("c.jpg", cv::Mat(4, 5, CV_8UC3, cv::Scalar(1, 2, 3)));
+  e = error_of(jpeg, small);
+  EXPECT_NE(e.find("c.jpg"), std::string::npos) << e;
+  EXPECT_NE(e.find("not a PNG file"), std::string::npos) << e;
+  // A colour depth image, a 16-bit colour image as depth, an 8-bit PGM.
+  e = error_of(color, write("d3.png", cv::Mat(4, 5, CV_16UC3, cv::Scalar(9, 9, 9))));
+  EXPECT_NE(e.find("16-bit with 3 channel(s)"), std::string::npos) << e;
+  const std::string pgm8 = (dir_ / "d8.pgm").string();
+  {
+    std::ofstream(pgm8, std::ios::binary) << "P5\n5 4\n255\n" << std::string(20, '\x09');
+  }
+  e = error_of(color, pgm8);
+  EXPECT_NE(e.find("d8.pgm"), std::string::npos) << e;
+  EXPECT_NE(e.find("8-bit"), std::string::npos) << e;
+}
+
+// Every PNG kind OpenCV writes reads as OpenCV reads it: gray and 16-bit
+// colour images become 8-bit RGB (16-bit samples keep their high byte),
+// alpha is dropped; 16-bit PGM depth (Kinect dumps) keeps its samples.
+TEST_F(VisionRgbdFiles, ColourKindsAndPgmDepth) {
+  cv::Mat depth(4, 5, CV_16UC1);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 5; ++c) depth.at<std::uint16_t>(r, c) = static_cast<std::uint16_t>(1000 + 300 * r + c);
+  const std::string d = write("d.png", depth);
+  cv::Mat gray(4, 5, CV_8UC1, cv::Scalar(77));
+  cv::Mat rgba(4, 5, CV_8UC4, cv::Scalar(10, 20, 30, 128));  // B G R A
+  cv::Mat deep(4, 5, CV_16UC3, cv::Scalar(0x1234, 0x5678, 0x9abc));
+  for (const auto& [name, m] : {std::pair{"g.png", gray}, std::pair{"a.png", rgba}, std::pair{"deep.png", deep}}) {
+    const RgbdFrame f = read_rgbd_frame(write(name, m), d, 1000.0);
+    cv::Mat expected;
+    if (m.channels() == 1) cv::cvtColor(m, expected, cv::COLOR_GRAY2RGB);
+    else if (m.channels() == 4) cv::cvtColor(m, expected, cv::COLOR_BGRA2RGB);
+    else if (m.depth() == CV_8U) cv::cvtColor(m, expected, cv::COLOR_BGR2RGB);
+    else cv::cvtColor(cv::Mat(4, 5, CV_8UC3, cv::Scalar(0x12, 0x56, 0x9a)), expected, cv::COLOR_BGR2RGB);
+    ASSERT_EQ(f.color.data.size(), expected.total() * 3) << name;
+    EXPECT_EQ(0, std::memcmp(f.color.data.data(), expected.data, f.color.data.size())) << name;
+    EXPECT_EQ(f.depth.meters(4, 3), (1000 + 300 * 3 + 4) / 1000.0) << name;
+  }
+  // The same depth as a 16-bit binary PGM (big-endian samples).
+  std::string pgm = "P5\n# a Kinect dump\n5 4\n65535\n";
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 5; ++c) {
+      const auto v = depth.at<std::uint16_t>(r, c);
+      pgm += static_cast<char>(v >> 8);
+      pgm += static_cast<char>(v & 0xff);
+    }
+  const std::string p = (dir_ / "d.pgm").string();
+  {
+    std::ofstream(p, std::ios::binary) << pgm;
+  }
+  const RgbdFrame a = read_rgbd_frame(write("c.png", gray), d, 1000.0);
+  const RgbdFrame b = read_rgbd_frame(write("c.png", gray), p, 1000.0);
+  EXPECT_EQ(std::get<std::vector<std::uint16_t>>(a.depth.values),
+            std::get<std::vector<std::uint16_t>>(b.depth.values));
+  // Truncated: the error names the file and the offset.
+  {
+    std::ofstream(p, std::ios::binary) << pgm.substr(0, pgm.size() - 3);
+  }
+  const std::string e = error_of((dir_ / "c.png").string(), p);
+  EXPECT_NE(e.find("d.pgm"), std::string::npos) << e;
+  EXPECT_NE(e.find("truncated"), std::string::npos) << e;
 }
 
 }  // namespace
