@@ -17,9 +17,11 @@
 #include "rove/core/ini.h"
 #include "rove/core/interrupt.h"
 #include "rove/core/json.h"
+#include "rove/core/parallel.h"
 #include "rove/core/progress.h"
 #include "rove/core/timer.h"
 #include "rove/graph/graph_io.h"
+#include "rove/io/octree_files.h"
 #include "rove/io/ply.h"
 #include "rove/io/tum_trajectory.h"
 #include "rove/slam/rgbd_sequence.h"
@@ -33,6 +35,8 @@ namespace fs = std::filesystem;
 
 constexpr const char* kOutputs[] = {"trajectory.tum", "keyframes.tum", "loops.csv",
                                     "map.ply",        "graph.g2o",     "summary.json"};
+// Written when octree_resolution > 0.
+constexpr const char* kOctreeOutput = "map.bt";
 
 struct RgbdSlamCliOptions {
   std::string input;
@@ -42,6 +46,7 @@ struct RgbdSlamCliOptions {
   std::optional<double> depth_scale;
   std::string out_dir = "rgbd-slam-out";
   std::optional<std::size_t> max_frames;
+  std::optional<int> threads;
   bool json = false;
   bool progress = true;
 };
@@ -62,6 +67,19 @@ RgbdSlamOptions load_options(const RgbdSlamCliOptions& o) {
   return opt;
 }
 
+RgbdSlamOptions load_all_options(const RgbdSlamCliOptions& o) {
+  RgbdSlamOptions opt = load_options(o);
+  if (o.threads) opt.octree_threads = resolve_thread_count(*o.threads, "--threads");
+  return opt;
+}
+
+// The octree map's counts, for the summary and the report.
+struct OctreeSummary {
+  double resolution = 0.0;
+  std::size_t nodes = 0, leaves = 0, occupied_leaves = 0;
+  std::size_t memory_bytes = 0;
+};
+
 void write_keyframes_and_loops(const fs::path& dir, const RgbdSlam& slam, std::vector<std::string>& files) {
   std::vector<TimedPose3> kfs;
   for (const RgbdKeyframe& k : slam.keyframes()) kfs.push_back({Timestamp::from_seconds(k.time), k.T_world_camera});
@@ -78,7 +96,8 @@ void write_keyframes_and_loops(const fs::path& dir, const RgbdSlam& slam, std::v
   files.push_back((dir / "loops.csv").string());
 }
 
-std::vector<std::string> write_outputs(const fs::path& dir, RgbdSlam& slam) {
+std::vector<std::string> write_outputs(const fs::path& dir, RgbdSlam& slam,
+                                       std::optional<OctreeSummary>& octree) {
   std::vector<std::string> files;
   std::vector<TimedPose3> traj;
   for (const StampedPose3& p : rgbd_trajectory(slam)) traj.push_back({Timestamp::from_seconds(p.time), p.pose});
@@ -89,6 +108,19 @@ std::vector<std::string> write_outputs(const fs::path& dir, RgbdSlam& slam) {
   files.push_back((dir / "map.ply").string());
   write_graph(slam.graph(), (dir / "graph.g2o").string(), GraphFileFormat::G2o);
   files.push_back((dir / "graph.g2o").string());
+  if (slam.options().octree_resolution > 0.0) {
+    const OccupancyOctree tree = slam.map_octree();
+    write_octree((dir / kOctreeOutput).string(), tree, OctreeFileFormat::Binary, OctreeBinaryContent::MaxLikelihood);
+    files.push_back((dir / kOctreeOutput).string());
+    OctreeSummary& t = octree.emplace();
+    t.resolution = tree.resolution();
+    t.nodes = tree.num_nodes();
+    t.memory_bytes = tree.memory_usage();
+    tree.for_each_leaf([&](const OctreeLeaf& l) {
+      ++t.leaves;
+      t.occupied_leaves += tree.is_occupied(l.log_odds) ? 1 : 0;
+    });
+  }
   return files;
 }
 
@@ -108,12 +140,13 @@ void write_stats(JsonWriter& j, const RgbdSlamStats& st, const RgbdSlamRunResult
   j.key("features").value(st.features_seconds).key("matching").value(st.matching_seconds);
   j.key("pnp").value(st.pnp_seconds).key("loop_closure").value(st.loop_seconds);
   j.key("graph").value(st.graph_seconds).key("map").value(st.map_seconds);
+  j.key("octree").value(st.octree_seconds);
   j.end_object();
 }
 
 std::string summary_json(const RgbdSlamCliOptions& o, const RgbdSequence& seq, const RgbdSlam& slam,
-                         const RgbdSlamRunResult& r, const std::vector<std::string>& files,
-                         const std::vector<Issue>& issues) {
+                         const RgbdSlamRunResult& r, const std::optional<OctreeSummary>& octree,
+                         const std::vector<std::string>& files, const std::vector<Issue>& issues) {
   JsonWriter j;
   j.begin_object();
   j.key("input").value(o.input).key("format").value(std::string(to_string(seq.format)));
@@ -135,6 +168,16 @@ std::string summary_json(const RgbdSlamCliOptions& o, const RgbdSequence& seq, c
     j.key("max_m").value(r.ate->translation.max).key("rotation_rmse_rad").value(r.ate->rotation.rmse);
     j.end_object();
   }
+  j.key("octree");
+  if (octree) {
+    j.begin_object().key("file").value(kOctreeOutput).key("resolution").value(octree->resolution);
+    j.key("threads").value(slam.options().octree_threads == 0 ? resolve_thread_count(0) : slam.options().octree_threads);
+    j.key("nodes").value(octree->nodes).key("leaves").value(octree->leaves);
+    j.key("occupied_leaves").value(octree->occupied_leaves).key("memory_bytes").value(octree->memory_bytes);
+    j.end_object();
+  } else {
+    j.null();
+  }
   j.key("files").value(files);
   write_issues(j, issues);
   j.end_object();
@@ -142,7 +185,8 @@ std::string summary_json(const RgbdSlamCliOptions& o, const RgbdSequence& seq, c
 }
 
 void print_report(const RgbdSlamCliOptions& o, const RgbdSequence& seq, const RgbdSlam& slam,
-                  const RgbdSlamRunResult& r, const std::vector<std::string>& files) {
+                  const RgbdSlamRunResult& r, const std::optional<OctreeSummary>& octree,
+                  const std::vector<std::string>& files) {
   const RgbdSlamStats& st = slam.stats();
   fmt::print("rgbd-slam: {} frames of '{}' ({}, camera {})\n", r.frames, printable(o.input),
              to_string(seq.format), printable(seq.camera_source));
@@ -156,6 +200,10 @@ void print_report(const RgbdSlamCliOptions& o, const RgbdSequence& seq, const Rg
              r.processing_seconds + r.read_seconds > 0 ? r.frames / (r.processing_seconds + r.read_seconds) : 0.0,
              st.features_seconds, st.matching_seconds, st.pnp_seconds, st.loop_seconds, st.graph_seconds,
              st.map_seconds, r.read_seconds);
+  if (octree) {
+    fmt::print("  octree: {} m cells, {} nodes ({} leaves, {} occupied), built in {:.3f} s\n", octree->resolution,
+               octree->nodes, octree->leaves, octree->occupied_leaves, st.octree_seconds);
+  }
   if (r.ate) {
     fmt::print("  ATE (SE3-aligned, {} poses, {}): RMSE {:.4f} m, max {:.4f} m\n", r.ate->translation.count,
                printable(seq.reference_path), r.ate->translation.rmse, r.ate->translation.max);
@@ -168,13 +216,14 @@ void run(const RgbdSlamCliOptions& o) {
   so.camera = o.camera;
   so.depth_scale = o.depth_scale;
   const RgbdSequence seq = read_rgbd_sequence(o.input, so);
-  const RgbdSlamOptions opt = load_options(o);
+  const RgbdSlamOptions opt = load_all_options(o);
   const fs::path dir(o.out_dir);
   if (fs::exists(dir) && !fs::is_directory(dir)) {
     throw IoError(o.out_dir, "the output folder (-o) exists and is not a folder");
   }
   std::vector<fs::path> planned, inputs{fs::path(o.input)};
   for (const char* f : kOutputs) planned.push_back(dir / f);
+  if (opt.octree_resolution > 0.0) planned.push_back(dir / kOctreeOutput);
   if (!o.config.empty()) inputs.emplace_back(o.config);
   check_outputs_distinct(inputs, planned);
 
@@ -195,15 +244,16 @@ void run(const RgbdSlamCliOptions& o) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw IoError(o.out_dir, "cannot create the output folder: " + ec.message());
-  std::vector<std::string> files = write_outputs(dir, slam);
+  std::optional<OctreeSummary> octree;
+  std::vector<std::string> files = write_outputs(dir, slam, octree);
   files.push_back((dir / "summary.json").string());
-  const std::string summary = summary_json(o, seq, slam, r, files, issues);
+  const std::string summary = summary_json(o, seq, slam, r, octree, files, issues);
   write_text_file_atomically(dir / "summary.json", summary);
   if (o.json) {
     fmt::print("{}", summary);
   } else {
     files.pop_back();
-    print_report(o, seq, slam, r, files);
+    print_report(o, seq, slam, r, octree, files);
   }
   finish(issues);
 }
@@ -214,7 +264,8 @@ void add_rgbd_slam_command(CLI::App& app) {
   auto o = std::make_shared<RgbdSlamCliOptions>();
   auto* cmd = app.add_subcommand(
       "rgbd-slam",
-      "RGB-D SLAM (ORB features, PnP visual odometry, keyframes, loop closure, pose graph) over a "
+      "RGB-D SLAM (ORB features, PnP visual odometry, keyframes, loop closure, pose graph; cloud "
+      "and octree maps) over a "
       "TUM RGB-D folder, an ICL-NUIM folder or numbered frames with a camera file");
   cmd->add_option("input", o->input, "the sequence folder")->required();
   cmd->add_option("--config", o->config,
@@ -230,6 +281,11 @@ void add_rgbd_slam_command(CLI::App& app) {
   cmd->add_option("-o,--output", o->out_dir, "output folder")->capture_default_str();
   cmd->add_option("--max-frames", o->max_frames, "process at most this many frames (default: all)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", o->threads,
+                  fmt::format("threads inserting the keyframes' clouds into the octree map (map.bt), 1 to {}, 0 "
+                              "for all hardware threads; the map does not depend on it (default: the config's "
+                              "octree_threads, 1)",
+                              kMaxThreads));
   cmd->add_flag("--json", o->json, "print the summary as JSON");
   cmd->add_flag("!--no-progress", o->progress, "do not report progress on stderr");
   cmd->callback([o] { run(*o); });

@@ -10,16 +10,26 @@ set(rove_rg_fr1 ${ROVE_DATASETS_DIR}/rgbd/tum_fr1_rpy)
 # 60 frames of fr1/rpy: every file, the ATE against groundtruth.txt.
 add_test(NAME cli.rgbd_slam_fr1 COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rgbd-slam --no-progress --max-frames 60 ${rove_rg_fr1} -o ${rove_rg_dir}/fr1"
-  -DEXIT=0 "-DREGEX=rgbd-slam: 60 frames .*tum, camera tum-fr1.*60 tracked, 0 lost.*ATE .*RMSE 0\\.0[0-3][0-9]* m.*wrote 6 files"
+  -DEXIT=0 "-DREGEX=rgbd-slam: 60 frames .*tum, camera tum-fr1.*60 tracked, 0 lost.*octree: 0\\.05 m cells, [1-9][0-9]+ nodes \\([1-9][0-9]+ leaves, [1-9][0-9]+ occupied\\).*ATE .*RMSE 0\\.0[0-3][0-9]* m.*wrote 7 files"
   -DFILE=${rove_rg_dir}/fr1/summary.json
-  "-DFILE_REGEX=\"frames\": 60,.*\"frames_per_second\": [0-9.]+,.*\"rmse_m\": 0\\.0[0-3].*\"issues\": \\[\\]"
+  "-DFILE_REGEX=\"frames\": 60,.*\"frames_per_second\": [0-9.]+,.*\"rmse_m\": 0\\.0[0-3].*\"octree\": {[^}]*\"file\": \"map.bt\",[^}]*\"resolution\": 0.05,.*\"issues\": \\[\\]"
   -P ${rove_rg_expect})
 # --json, the tutorial's preset.
 add_test(NAME cli.rgbd_slam_tutorial_json COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rgbd-slam --no-progress --json --preset tutorial --max-frames 20 ${rove_rg_fr1} -o ${rove_rg_dir}/tutorial"
   -DEXIT=0
-  "-DREGEX=\"preset\": \"tutorial\",.*\"frames\": 20,.*\"files\": \\[.*trajectory.tum.*keyframes.tum.*loops.csv.*map.ply.*graph.g2o"
+  "-DREGEX=\"preset\": \"tutorial\",.*\"frames\": 20,.*\"files\": \\[.*trajectory.tum.*keyframes.tum.*loops.csv.*map.ply.*graph.g2o.*map.bt"
   -P ${rove_rg_expect})
+# octree_resolution = 0: no octree map; a bad --threads is refused.
+file(WRITE ${rove_rg_dir}/nooctree.ini "[rgbd-slam]\noctree_resolution = 0\n")
+add_test(NAME cli.rgbd_slam_no_octree COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> rgbd-slam --no-progress --config ${rove_rg_dir}/nooctree.ini --max-frames 10 ${rove_rg_fr1} -o ${rove_rg_dir}/nooctree"
+  -DEXIT=0 "-DREGEX=10 tracked.*wrote 6 files" -DABSENT=${rove_rg_dir}/nooctree/map.bt
+  -DFILE=${rove_rg_dir}/nooctree/summary.json "-DFILE_REGEX=\"octree\": null"
+  -P ${rove_rg_expect})
+add_test(NAME cli.rgbd_slam_bad_threads COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> rgbd-slam --no-progress --threads 100000 ${rove_rg_fr1} -o ${rove_rg_dir}/badthreads"
+  -DEXIT=1 "-DREGEX=--threads" -DABSENT=${rove_rg_dir}/badthreads/summary.json -P ${rove_rg_expect})
 # Numbered Kinect frames far apart: some are not tracked; the run says so
 # and exits 3 with its files written.
 add_test(NAME cli.rgbd_slam_kinect5_lost COMMAND ${CMAKE_COMMAND}
@@ -53,7 +63,9 @@ add_test(NAME cli.rgbd_slam_misspelt_key COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rgbd-slam --no-progress --camera kinect --config ${rove_rg_dir}/params.txt ${rove_rg_dir}/nocam -o ${rove_rg_dir}/misspelt_out"
   -DEXIT=1 "-DREGEX=params.txt.*good_match_treshold" -P ${rove_rg_expect})
 set_tests_properties(cli.rgbd_slam_fr1 cli.rgbd_slam_tutorial_json cli.rgbd_slam_kinect5_lost
+  cli.rgbd_slam_no_octree cli.rgbd_slam_bad_threads
   cli.rgbd_slam_not_a_sequence cli.rgbd_slam_missing_depth cli.rgbd_slam_no_camera
   cli.rgbd_slam_bad_frame cli.rgbd_slam_misspelt_key PROPERTIES LABELS cli)
-rove_dataset_tests(cli.rgbd_slam_fr1 cli.rgbd_slam_tutorial_json cli.rgbd_slam_kinect5_lost)
+rove_dataset_tests(cli.rgbd_slam_fr1 cli.rgbd_slam_tutorial_json cli.rgbd_slam_kinect5_lost
+  cli.rgbd_slam_no_octree cli.rgbd_slam_bad_threads)
 endif()

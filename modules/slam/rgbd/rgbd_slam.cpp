@@ -510,4 +510,30 @@ PointCloud RgbdSlam::map_cloud() {
   return out;
 }
 
+OccupancyOctree RgbdSlam::map_octree() {
+  const RgbdSlamOptions& o = impl_->opt;
+  ROVE_CHECK_MSG(o.octree_resolution > 0.0, "map_octree needs octree_resolution > 0, got {}",
+                 o.octree_resolution);
+  Stopwatch sw;
+  OccupancyOctree tree(o.octree_resolution);
+  OctreeInsertOptions io;
+  io.mode = OctreeUpdateMode::Discretized;
+  io.skip_invalid_points = true;  // a point beyond the tree's ±3.3 km is dropped, not an error
+  io.num_threads = o.octree_threads;
+  std::vector<Eigen::Vector3f> points;
+  for (std::size_t k = 0; k < impl_->keyframes.size(); ++k) {
+    const PointCloud& c = impl_->keyframes[k].cloud;
+    if (c.empty()) continue;
+    const SE3d T = impl_->graph.pose(k);  // T_world_camera
+    const Eigen::Matrix3f R = T.rotation_matrix().cast<float>();
+    const Eigen::Vector3f t = T.translation().cast<float>();
+    points.clear();
+    points.reserve(c.size());
+    for (const Eigen::Vector3f& p : c.points()) points.push_back(R * p + t);
+    tree.insert_point_cloud(points, T.translation(), io);
+  }
+  impl_->stats.octree_seconds += sw.elapsed();
+  return tree;
+}
+
 }  // namespace rove

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "rove/core/check.h"
+#include "rove/maps/occupancy_octree.h"
 
 namespace rove {
 namespace {
@@ -68,6 +69,8 @@ void read_loops(const ConfigSection& s, RgbdSlamOptions& o) {
   o.voxel_grid = s.get_in_range("voxel_grid", o.voxel_grid, 1e-4, 1e3);
   o.map_stride = static_cast<std::uint32_t>(get_count(s, "map_stride", o.map_stride, 1, 1000));
   o.map_max_depth = s.get_in_range("map_max_depth", o.map_max_depth, 1e-3, 1e3);
+  o.octree_resolution = s.get_in_range("octree_resolution", o.octree_resolution, 0.0, 1e3);
+  o.octree_threads = static_cast<int>(get_count(s, "octree_threads", static_cast<std::size_t>(o.octree_threads), 0, 256));
   o.seed = static_cast<std::uint64_t>(get_count(s, "seed", static_cast<std::size_t>(o.seed), 0, 9e15));
 }
 
@@ -164,6 +167,11 @@ void RgbdSlamOptions::check() const {
   ROVE_CHECK_MSG(std::isfinite(voxel_grid) && voxel_grid > 0.0, "voxel_grid must be > 0, got {}", voxel_grid);
   ROVE_CHECK_MSG(std::isfinite(map_max_depth) && map_max_depth > 0.0,
                  "map_max_depth must be > 0, got {}", map_max_depth);
+  ROVE_CHECK_MSG(octree_resolution == 0.0 || octree_resolution_valid(octree_resolution),
+                 "octree_resolution must be 0 (no octree) or a valid octree resolution > 0, got {}",
+                 octree_resolution);
+  ROVE_CHECK_MSG(octree_threads >= 0 && octree_threads <= 256, "octree_threads must be in 0..256, got {}",
+                 octree_threads);
   PnpOptions p = pnp;
   p.min_inliers = std::min(min_inliers, loop_min_inliers);
   p.check();

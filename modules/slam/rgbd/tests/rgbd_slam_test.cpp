@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <unordered_set>
 
 #include "rove/core/error.h"
 #include "rove/core/ini.h"
+#include "rove/io/octree_files.h"
 #include "rove/slam/rgbd_slam.h"
 
 namespace rove {
@@ -131,6 +133,94 @@ TEST(RgbdSlam, FollowsARenderedRoomAndClosesTheLoop) {
   EXPECT_EQ(off, 0u);
 }
 
+// Distance from p (world) to the nearest of the room's planes.
+double distance_to_room(const Eigen::Vector3d& p) {
+  double d = std::numeric_limits<double>::infinity();
+  for (const Plane& pl : kPlanes) d = std::min(d, std::abs(p[pl.axis] - pl.value));
+  return d;
+}
+
+TEST(RgbdSlam, TheOctreeMapHoldsTheRoomsWallsAndTheFreeSpaceBeforeThem) {
+  const PinholeCamera cam = test_camera();
+  RgbdSlam slam(cam);  // octree_resolution 0.05
+  constexpr std::size_t kFrames = 30;
+  for (std::size_t i = 0; i < 10; ++i) {
+    slam.process(render(cam, true_pose(i, kFrames)), 0.1 * static_cast<double>(i));
+  }
+  slam.finish();
+  ASSERT_GE(slam.stats().keyframes, 2u);
+  const OccupancyOctree tree = slam.map_octree();
+  EXPECT_EQ(tree.resolution(), 0.05);
+  EXPECT_GT(slam.stats().octree_seconds, 0.0);
+  // World = the first camera's frame, which is the room's (true_pose(0) is
+  // the identity).
+  ASSERT_TRUE(true_pose(0, kFrames).is_approx(SE3d()));
+
+  // Every occupied cell lies on a wall (its centre within half its diagonal
+  // and 2 cm of a plane), and holds points of the cloud map.
+  const PointCloud map = slam.map_cloud();
+  std::unordered_set<OctreeKey, OctreeKeyHash> map_cells;
+  for (const Eigen::Vector3f& q : map.points()) map_cells.insert(tree.key_checked(q.cast<double>()));
+  std::size_t occupied = 0, free = 0, off_wall = 0, without_points = 0;
+  tree.for_each_leaf([&](const OctreeLeaf& l) {
+    if (!tree.is_occupied(l.log_odds)) {
+      ++free;
+      return;
+    }
+    ++occupied;
+    const double half_diagonal = tree.node_size(l.depth) * std::sqrt(3.0) / 2.0;
+    if (distance_to_room(tree.center_of(l.key, l.depth)) > half_diagonal + 0.02) ++off_wall;
+    if (l.depth == kOctreeDepth && !map_cells.contains(l.key)) ++without_points;
+  });
+  EXPECT_GT(occupied, 1000u);
+  EXPECT_GT(free, 100u);
+  EXPECT_EQ(off_wall, 0u);
+  // Measured: 0. The octree's points are the keyframes' clouds before the
+  // final voxel filter, whose cells the map's 1 cm voxels fall in.
+  EXPECT_LE(without_points, occupied / 100);
+
+  // The space inside the first camera's view (x/z within ±0.45, y/z within
+  // ±0.35 of the image's ±0.61 and ±0.46) and before the far wall (z = 3)
+  // is known and free; behind the wall nothing is known.
+  for (double z = 0.3; z <= 2.8; z += 0.1) {
+    for (double a = -0.45; a <= 0.46; a += 0.15) {
+      for (double b = -0.35; b <= 0.36; b += 0.175) {
+        const double x = a * z, y = b * z;
+        const auto n = tree.search(Eigen::Vector3d(x, y, z));
+        ASSERT_TRUE(n.has_value()) << x << " " << y << " " << z;
+        EXPECT_FALSE(tree.is_occupied(n->log_odds)) << x << " " << y << " " << z;
+      }
+    }
+  }
+  EXPECT_FALSE(tree.search(Eigen::Vector3d(0.0, 0.0, 3.3)).has_value());
+  // The wall (z = 3, a cell boundary) is in the cell before or after it.
+  const auto before = tree.search(Eigen::Vector3d(0.02, 0.02, 2.99));
+  const auto after = tree.search(Eigen::Vector3d(0.02, 0.02, 3.01));
+  EXPECT_TRUE((before && tree.is_occupied(before->log_odds)) || (after && tree.is_occupied(after->log_odds)));
+
+  // OctoMap's .bt: read back, every cell has the occupancy it had.
+  const OccupancyOctree back = parse_octree(octree_binary_bytes(tree, OctreeBinaryContent::MaxLikelihood), "map.bt");
+  EXPECT_EQ(back.resolution(), tree.resolution());
+  std::size_t differ = 0;
+  tree.for_each_leaf([&](const OctreeLeaf& l) {
+    const auto n = back.search(l.key, l.depth);
+    if (!n || back.is_occupied(n->log_odds) != tree.is_occupied(l.log_odds)) ++differ;
+  });
+  EXPECT_EQ(differ, 0u);
+}
+
+TEST(RgbdSlam, NoOctreeResolutionMeansNoOctree) {
+  RgbdSlamOptions o;
+  o.octree_resolution = 0.0;
+  RgbdSlam slam(test_camera(), o);
+  EXPECT_THROW(slam.map_octree(), InvalidArgument);
+  o.octree_resolution = -0.1;
+  EXPECT_THROW(RgbdSlam(test_camera(), o), InvalidArgument);
+  o.octree_resolution = 0.05;
+  o.octree_threads = 300;
+  EXPECT_THROW(RgbdSlam(test_camera(), o), InvalidArgument);
+}
+
 TEST(RgbdSlam, ATexturelessFrameIsSkippedAndCounted) {
   const PinholeCamera cam = test_camera();
   RgbdSlam slam(cam);
@@ -195,6 +285,7 @@ TEST(RgbdSlamOptions, ReadsTheTutorialNamesAndPresets) {
   EXPECT_EQ(o.nearby_loops, 4u);
   EXPECT_EQ(o.random_loops, 6u);
   EXPECT_EQ(o.voxel_grid, 0.02);
+  EXPECT_EQ(o.octree_resolution, 0.05);  // rove's default kept
   EXPECT_EQ(o.proximity_loops, RgbdSlamOptions().proximity_loops);  // rove's default kept
 
   const IniFile t = IniFile::parse("[rgbd]\npreset = tutorial\n", "t.ini");
@@ -209,11 +300,16 @@ TEST(RgbdSlamOptions, ReadsTheTutorialNamesAndPresets) {
   const IniFile nol = IniFile::parse("check_loop_closure=no\n", "n.ini");
   const RgbdSlamOptions n = RgbdSlamOptions::from_config(ConfigSection(nol, ""));
   EXPECT_EQ(n.nearby_loops + n.random_loops + n.proximity_loops, 0u);
+
+  const IniFile oct = IniFile::parse("[rgbd-slam]\noctree_resolution = 0.1\noctree_threads = 0\n", "o.ini");
+  const RgbdSlamOptions ot = RgbdSlamOptions::from_config(ConfigSection(oct, "rgbd-slam"));
+  EXPECT_EQ(ot.octree_resolution, 0.1);
+  EXPECT_EQ(ot.octree_threads, 0);
 }
 
 TEST(RgbdSlamOptions, BadValuesNameTheKey) {
   for (const char* text : {"detector=SIFT\n", "min_inliers=2\n", "preset=fast\n", "voxel_grid=-1\n",
-                           "nearby_loops=1.5\n"}) {
+                           "nearby_loops=1.5\n", "octree_resolution=-0.05\n", "octree_threads=1000\n"}) {
     const IniFile ini = IniFile::parse(text, "bad.ini");
     try {
       RgbdSlamOptions::from_config(ConfigSection(ini, ""));

@@ -34,6 +34,7 @@
 
 #include "rove/graph/optimizer.h"
 #include "rove/graph/pose_graph.h"
+#include "rove/maps/occupancy_octree.h"
 #include "rove/maps/point_cloud.h"
 #include "rove/math/se3.h"
 #include "rove/obs/pinhole_camera.h"
@@ -113,6 +114,7 @@ struct RgbdSlamStats {
   double loop_seconds = 0.0;     ///< loop closure: matching and PnP
   double graph_seconds = 0.0;    ///< pose-graph optimization
   double map_seconds = 0.0;      ///< keyframe clouds and the final voxel filter
+  double octree_seconds = 0.0;   ///< the octree map (map_octree)
 };
 
 /// The RGB-D SLAM pipeline (see the file comment). Not thread-safe.
@@ -157,6 +159,17 @@ class RgbdSlam {
   /// map_max_depth) at the keyframes' poses, voxel filtered with leaf
   /// voxel_grid. Its time is added to stats().map_seconds.
   PointCloud map_cloud();
+  /// The map as a 3D occupancy octree with OctoMap's semantics
+  /// (rove/maps/occupancy_octree.h, default sensor model), cells
+  /// options.octree_resolution meters wide: each keyframe's cloud (the one
+  /// map_cloud() uses) placed at the keyframe's pose and inserted with rays
+  /// from the camera's origin, keyframe after keyframe, so the cells between
+  /// the camera and the surfaces it saw are free. Rays end at the centres of
+  /// the distinct cells each cloud's points fall in (OctoMap's discretized
+  /// insertion); options.octree_threads threads. World frame as
+  /// frame_pose(). Its time is added to stats().octree_seconds.
+  /// Precondition (InvalidArgument): options.octree_resolution > 0.
+  OccupancyOctree map_octree();
   /// Counts and times so far.
   const RgbdSlamStats& stats() const noexcept;
   /// The options in use.

@@ -110,6 +110,12 @@ struct RgbdSlamOptions {
   double voxel_grid = 0.01;
   /// Largest depth of map points, meters (> 0). Default 4.
   double map_max_depth = 4.0;
+  /// The occupancy octree map (RgbdSlam::map_octree): edge of its finest
+  /// cells, meters (≥ 0; 0: no octree). Default 0.05.
+  double octree_resolution = 0.05;
+  /// Threads inserting the keyframes' clouds into the octree (1–256, 0: every
+  /// hardware thread); the octree does not depend on the number. Default 1.
+  int octree_threads = 1;
 
   /// Seed of the random loop candidates and of RANSAC.
   std::uint64_t seed = 42;
@@ -130,7 +136,7 @@ struct RgbdSlamOptions {
   /// guided_max_distance, reprojection_threshold_px, ransac_iterations,
   /// keyframe_min_inliers, proximity_loops, proximity_max_norm,
   /// loop_min_inliers, huber_delta, min_depth, max_depth, map_stride,
-  /// map_max_depth, seed). The tutorial's camera.* keys, and its file and
+  /// map_max_depth, octree_resolution, octree_threads, seed). The tutorial's camera.* keys, and its file and
   /// display keys, are accepted and ignored (the camera comes from the
   /// sequence). Throws ConfigError naming the key for a bad value or an
   /// unknown preset or detector.
