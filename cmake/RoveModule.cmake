@@ -8,7 +8,7 @@
 #   earlier in ROVE_MODULE_ORDER: dependencies only point down the stack.
 
 set(ROVE_MODULE_ORDER core serialization math poses obs maps io registration bayes graph
-    vision slam nav viz)
+    vision slam nav viz ros)
 
 # Tests that read the large shared datasets (not part of a clone): GoogleTest
 # suites whose name ends in "Datasets", and the command-line tests passed to

@@ -46,13 +46,31 @@ bool starts_with_mrpt_object(std::span<const std::byte> head) {
 
 bool is_text_byte(unsigned char c) { return c == '\t' || c == '\n' || c == '\r' || (c >= 0x20 && c < 0x7f); }
 
+RawlogSourceOpener& bag_opener() {
+  static RawlogSourceOpener opener;
+  return opener;
+}
+
 }  // namespace
+
+void register_rawlog_source(RawlogFormat format, RawlogSourceOpener opener) {
+  if (format != RawlogFormat::RosBag) {
+    throw InvalidArgument(fmt::format("register_rawlog_source: {} logs have a built-in reader",
+                                      to_string(format)));
+  }
+  bag_opener() = std::move(opener);
+}
+
+bool rawlog_format_available(RawlogFormat format) {
+  return format != RawlogFormat::RosBag || static_cast<bool>(bag_opener());
+}
 
 std::string_view to_string(RawlogFormat format) noexcept {
   switch (format) {
     case RawlogFormat::Rove: return "rove";
     case RawlogFormat::Mrpt: return "MRPT";
     case RawlogFormat::Carmen: return "CARMEN";
+    case RawlogFormat::RosBag: return "ROS bag";
   }
   return "unknown";
 }
@@ -74,6 +92,15 @@ RawlogFormat detect_rawlog_format(const std::string& path) {
   if (n >= kRoveRawlogMagic.size() &&
       std::memcmp(head.data(), kRoveRawlogMagic.data(), kRoveRawlogMagic.size()) == 0) {
     return RawlogFormat::Rove;
+  }
+  if (n >= kRosBagMagic.size() &&
+      std::memcmp(head.data(), kRosBagMagic.data(), kRosBagMagic.size()) == 0) {
+    return RawlogFormat::RosBag;
+  }
+  if (n >= 9 && std::memcmp(head.data(), "#ROSBAG V", 9) == 0) {
+    throw ParseError({path, std::nullopt, 0, "format"},
+                     "a ROS bag of a format version other than 2.0 (rove reads ROS 1 bags, "
+                     "format 2.0)");
   }
   const bool bzip2 = n >= 3 && std::memcmp(head.data(), "BZh", 3) == 0;
   bool text = true;
@@ -118,6 +145,15 @@ AnyRawlogReader::AnyRawlogReader(const std::string& path, AnyRawlogOptions optio
       carmen_ = std::make_unique<CarmenRawlogSource>(
           CarmenRawlogSource::open(path, std::move(options.carmen)));
       break;
+    case RawlogFormat::RosBag:
+      if (!bag_opener()) {
+        throw ParseError({path, std::nullopt, 0, "format"},
+                         "a ROS bag, but this build of rove has no ROS bag reader (build it with "
+                         "the rove::ros adapter: Debian's librosbag-storage-dev and message "
+                         "packages, ROVE_BUILD_ROS=ON)");
+      }
+      source_ = bag_opener()(path, options);
+      break;
   }
 }
 
@@ -129,6 +165,8 @@ std::optional<RawlogEntry> AnyRawlogReader::next() {
     e = rove_->next();
   } else if (mrpt_) {
     e = mrpt_->next();
+  } else if (source_) {
+    e = source_->next();
   } else {
     e = carmen_->next();
     if (!e) {
@@ -162,13 +200,23 @@ std::optional<RawlogEntry> AnyRawlogReader::next() {
 std::uint64_t AnyRawlogReader::position() const {
   if (rove_) return rove_->offset();
   if (mrpt_) return mrpt_->offset();
+  if (source_) return source_->position();
   return carmen_->lines_read();
 }
 
 std::optional<RawlogLayout> AnyRawlogReader::declared_layout() const {
   if (rove_) return rove_->layout();
   if (carmen_) return carmen_->layout();
+  if (source_) return source_->layout();
   return std::nullopt;
+}
+
+std::vector<std::string> AnyRawlogReader::skipped() const {
+  if (source_) return source_->skipped();
+  if (rove_ && rove_->skipped_entries() > 0) {
+    return {fmt::format("{} entries of unknown classes", rove_->skipped_entries())};
+  }
+  return {};
 }
 
 AnyRawlog load_any_rawlog(const std::string& path, AnyRawlogOptions options) {
