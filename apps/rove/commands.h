@@ -51,5 +51,11 @@ void add_nav_command(CLI::App& app);
 /// `rove view FILE... [--port P] [--export S.glb] [--html P.html] [--screenshot P.png]`:
 /// one 3D scene from rove's files and output folders, in a web browser.
 void add_view_command(CLI::App& app);
+/// `rove batch COMMAND [--inputs ...] [--param SECTION.key=V1,V2] [-o DIR] ...`:
+/// listed in the help; the arguments after `batch` go to run_batch_command().
+void add_batch_command(CLI::App& app);
+/// Replaces the process with `python3 -m rove.batch ARGS...` (the Dask
+/// scale-out, python/rove/batch.py); returns only if that cannot start.
+int run_batch_command(int argc, char** argv);
 
 }  // namespace rove::cli

@@ -121,12 +121,14 @@ int main(int argc, char** argv) {
   rove::cli::add_octomap_command(app);
   rove::cli::add_nav_command(app);
   rove::cli::add_view_command(app);
+  rove::cli::add_batch_command(app);
   rove::install_interrupt_handler();
   if (argc < 2) {
     fmt::print(stderr, "{}", app.help());
     return rove::cli::kExitUsage;
   }
   if (unknown_command(app, argc, argv)) return rove::cli::kExitUsage;
+  if (std::string_view(argv[1]) == "batch") return rove::cli::run_batch_command(argc - 2, argv + 2);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,257 @@
+"""rove.batch and `rove batch`: runs on a Dask LocalCluster against a serial
+run (the same figures, even when a worker is killed mid-run), the table's
+contents against each run's own files, failures reported, bad grids
+refused."""
+
+import csv
+import json
+import os
+import pathlib
+import signal
+import subprocess
+
+import pytest
+
+import rove
+from rove import batch
+from conftest import ICP_SLAM_INI, TELECOM, dataset
+
+COMMAND = "icp-slam {config} {input} -o {out} --no-progress"
+
+
+@pytest.fixture(scope="module")
+def cli():
+    path = os.environ.get("ROVE_CLI")
+    if not path:
+        pytest.skip("the rove command line was not built (ROVE_BUILD_APPS=OFF)")
+    return path
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    distributed = pytest.importorskip("distributed")
+    import logging
+    c = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                 dashboard_address=None, silence_logs=logging.CRITICAL)
+    client = distributed.Client(c)
+    yield client
+    client.close()
+    c.close()
+
+
+def timing(key):
+    return "seconds" in key or key.endswith("per_second")
+
+
+def deterministic(figures):
+    return {k: v for k, v in figures.items() if not timing(k)}
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_killed_worker_still_gives_every_result_as_serial(tmp_path, cli, cluster):
+    grid = {"ICP.thresholdDist": [0.5, 0.75, 1.0, 1.25], "max-steps": [180, 224]}  # 8 runs
+    serial = batch.run(COMMAND, [TELECOM], grid, config=ICP_SLAM_INI, out=tmp_path / "serial",
+                       serial=True, rove=cli)
+    assert [r.status for r in serial.runs] == ["ok"] * 8
+
+    killed = []
+
+    def kill_a_running_worker(row):
+        if killed:
+            return
+        # A run that started (its attempt is logged with the worker's pid) and
+        # has not finished (no run.json yet): kill the worker computing it.
+        for tries in sorted((tmp_path / "dask" / "runs").glob(".*.attempts")):
+            folder = tries.with_name(tries.name[1:-len(".attempts")])
+            if not (folder / "run.json").exists():
+                pid = int(tries.read_text().split()[-1])
+                os.kill(pid, signal.SIGKILL)
+                killed.append((folder.name, pid))
+                return
+
+    seen = []
+    result = batch.run(COMMAND, [TELECOM], grid, config=ICP_SLAM_INI, out=tmp_path / "dask",
+                       client=cluster, retries=1, rove=cli,
+                       on_result=lambda r: (seen.append(r.name), kill_a_running_worker(r)))
+    assert killed, "no run was in flight after the first result"
+    assert len(seen) == 8 and sorted(seen) == [r.name for r in serial.runs]
+    assert [r.status for r in result.runs] == ["ok"] * 8
+    assert result.exit_status == 0
+    victim = next(r for r in result.runs if r.name == killed[0][0])
+    assert victim.attempts == 2 and victim.worker.split(":")[1] != str(killed[0][1])
+    for a, b in zip(serial.runs, result.runs):
+        assert a.params == b.params
+        assert deterministic(a.figures) == deterministic(b.figures), a.name
+        for f in ("path.tum", "points.ply", "keyframes.tum"):
+            assert (pathlib.Path(a.folder) / f).read_bytes() == (pathlib.Path(b.folder) / f).read_bytes()
+    # The grid changed what ran: the step limit, and the threshold the config copy set.
+    assert [r.figures["steps"] for r in result.runs] == [180, 224] * 4
+    assert len({r.figures["icp_iterations"] for r in result.runs}) > 2
+    # Nothing of the attempts is left behind.
+    assert not list((tmp_path / "dask" / "runs").glob(".*"))
+
+
+def test_table_holds_each_runs_parameters_and_figures(tmp_path, cli, cluster):
+    result = batch.run(COMMAND, [TELECOM], ["ICP.thresholdDist=0.6,0.9", "max-steps=120"],
+                       config=ICP_SLAM_INI, out=tmp_path, client=cluster, rove=cli)
+    rows = read_csv(tmp_path / "runs.csv")
+    assert [r["name"] for r in rows] == [r.name for r in result.runs]
+    assert list(rows[0])[:5] == ["index", "name", "input", "param.ICP.thresholdDist", "param.max-steps"]
+    doc = json.loads((tmp_path / "runs.json").read_text())
+    assert doc["runs"] == 2 and doc["ok"] == 2 and doc["failed"] == 0
+    assert doc["params"] == {"ICP.thresholdDist": [0.6, 0.9], "max-steps": [120]}
+    for row, value in zip(rows, (0.6, 0.9)):
+        folder = pathlib.Path(tmp_path / "runs" / row["name"])
+        summary = json.loads((folder / "summary.json").read_text())
+        assert float(row["param.ICP.thresholdDist"]) == value and row["param.max-steps"] == "120"
+        assert row["status"] == "ok" and row["exit_status"] == "0" and row["error"] == ""
+        assert row["input"] == str(TELECOM) and int(row["attempts"]) == 1
+        assert int(row["steps"]) == summary["steps"] == 120
+        assert float(row["final_pose.x"]) == summary["final_pose"]["x"]
+        assert int(row["icp_accepted"]) == summary["icp_accepted"]
+        assert float(row["wall_seconds"]) > 0
+        # The run's config is the original with its value set, and the run used it.
+        config = (folder / "config.ini").read_text()
+        assert config.startswith(ICP_SLAM_INI.read_text().rstrip("\n"))
+        assert config.rstrip().endswith(f"[ICP]\nthresholdDist = {value}")
+        run_json = json.loads((folder / "run.json").read_text())
+        assert run_json["status"] == "ok" and "--max-steps 120" in run_json["command"]
+        assert {f.name for f in folder.iterdir()} >= {"path.tum", "summary.json", "run.json", "config.ini"}
+    # The same run made by hand with that config gives the same figures.
+    handmade = tmp_path / "handmade"
+    subprocess.run([cli, "icp-slam", tmp_path / "runs" / rows[1]["name"] / "config.ini", TELECOM,
+                    "-o", handmade, "--max-steps", "120", "--no-progress"], check=True, capture_output=True)
+    made = batch._flatten(json.loads((handmade / "summary.json").read_text()))
+    made = {k: v for k, v in made.items() if k not in ("config", "rawlog")}
+    assert deterministic(made) == deterministic(result.runs[1].figures)
+
+
+def test_a_library_entry_point_runs_as_the_command_does(tmp_path, cli):
+    params = {"ICP.thresholdDist": [0.6], "max_steps": [150]}
+    lib = batch.run(rove.icp_slam, [TELECOM], params, config=ICP_SLAM_INI, out=tmp_path / "lib", serial=True)
+    cmd = batch.run(COMMAND, [TELECOM], {"ICP.thresholdDist": [0.6], "max-steps": [150]},
+                    config=ICP_SLAM_INI, out=tmp_path / "cmd", serial=True, rove=cli)
+    a, b = lib.runs[0], cmd.runs[0]
+    assert a.status == b.status == "ok"
+    for key in ("steps", "icp_accepted", "keyframes", "icp_iterations"):
+        assert a.figures[key] == b.figures[key], key
+    assert a.figures["final_pose.x"] == pytest.approx(b.figures["final_pose.x"], abs=1e-9)
+    # The library run wrote its path as TUM: the same poses as the command's path.tum.
+    import numpy as np
+    pa = np.loadtxt(pathlib.Path(a.folder) / "path.tum")
+    pb = np.loadtxt(pathlib.Path(b.folder) / "path.tum")
+    assert pa.shape == pb.shape and np.allclose(pa[:, 1:3], pb[:, 1:3], atol=1e-6)
+
+
+def test_eval_ate_against_a_reference(tmp_path, cli):
+    ref = batch.run(COMMAND, [TELECOM], {"max-steps": [224]}, config=ICP_SLAM_INI,
+                    out=tmp_path / "ref", serial=True, rove=cli).runs[0]
+    gt = pathlib.Path(ref.folder) / "path.tum"
+    res = batch.run(COMMAND, [TELECOM], {"ICP.thresholdDist": [0.3, 3.0]}, config=ICP_SLAM_INI,
+                    out=tmp_path / "ev", serial=True, rove=cli, eval=f"ate={gt}")
+    same, other = res.runs  # 0.3 is the config's own value: the reference itself
+    assert same.eval["ate"]["translation_m.rmse"] == pytest.approx(0.0, abs=1e-6)
+    assert other.eval["ate"]["translation_m.rmse"] > 1e-3
+    assert same.eval["ate"]["pairs"] == 224
+    row = read_csv(tmp_path / "ev" / "runs.csv")[1]
+    assert float(row["eval.ate.translation_m.rmse"]) == other.eval["ate"]["translation_m.rmse"]
+
+
+def test_a_failing_job_is_reported(tmp_path, cli, cluster):
+    not_a_log = tmp_path / "notes.txt"
+    not_a_log.write_text("no robot here\n")
+    result = batch.run(COMMAND, [TELECOM, not_a_log], {"max-steps": [50]}, config=ICP_SLAM_INI,
+                       out=tmp_path / "out", client=cluster, retries=1, rove=cli)
+    good, bad = result.runs
+    assert good.status == "ok" and good.figures["steps"] == 50
+    assert bad.status == "failed" and bad.exit_status == 1 and bad.attempts == 2
+    assert "notes.txt" in bad.error and bad.error.startswith("rove icp-slam: exit status 1")
+    assert result.exit_status == 1
+    rows = read_csv(tmp_path / "out" / "runs.csv")
+    assert rows[1]["status"] == "failed" and rows[1]["error"] == bad.error and rows[1]["steps"] == ""
+    assert json.loads((pathlib.Path(bad.folder) / "run.json").read_text())["status"] == "failed"
+    assert "notes.txt" in (pathlib.Path(bad.folder) / "job.stderr.txt").read_text()
+
+    # The command line: exit status 1, the failure named on stderr, the table written.
+    proc = subprocess.run([cli, "batch", COMMAND, "-c", ICP_SLAM_INI, "-i", TELECOM, not_a_log,
+                           "-p", "max-steps=50", "--workers", "2", "--retries", "0", "-o", tmp_path / "cli"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 1, proc.stderr
+    assert "2 runs" in proc.stdout and "1 ok" in proc.stdout and "1 failed" in proc.stdout
+    assert "rove batch: failed: 0001-notes" in proc.stderr
+    assert [r["status"] for r in read_csv(tmp_path / "cli" / "runs.csv")] == ["ok", "failed"]
+
+
+def test_issues_exit_status(tmp_path, cli):
+    # A threshold no ICP result passes: the command exits 3, the run is "issues".
+    result = batch.run(COMMAND, [TELECOM], {"MappingApplication.minICPgoodnessToAccept": [1],
+                                            "max-steps": [30]},
+                       config=ICP_SLAM_INI, out=tmp_path, serial=True, rove=cli)
+    run = result.runs[0]
+    assert run.status == "issues" and run.exit_status == 3 and run.issues == ["no-icp-accepted"]
+    assert result.exit_status == 3
+
+
+@pytest.mark.parametrize("params, message", [
+    (["thresholdDist"], "expected NAME=V1,V2"),
+    (["ICP.thresholdDist="], "empty value"),
+    (["ICP.thresholdDist=0.5,,1"], "empty value"),
+    (["ICP.thresholdDist=0.5,0.5"], "repeated"),
+    (["ICP.thresholdDist=1", "icp.THRESHOLDDIST=2"], "given twice"),
+    (["9lives=1"], "not a parameter name"),
+    (["NoSuchSection.key=1"], "section [NoSuchSection] is not in"),
+    ({"ICP.thresholdDist": []}, "no values"),
+    ({"ICP.thresholdDist": [float("nan")]}, "not finite"),
+])
+def test_bad_grid_is_refused(tmp_path, params, message, cli):
+    with pytest.raises(batch.BatchError, match=message.replace("[", r"\[").replace("]", r"\]")):
+        batch.run(COMMAND, [TELECOM], params, config=ICP_SLAM_INI, out=tmp_path, serial=True, rove=cli)
+    assert not (tmp_path / "runs").exists()
+
+
+@pytest.mark.parametrize("command, kwargs, message", [
+    ("icp-slam {config} {input}", {}, "must write into {out}"),
+    ("icp-slam {config} {input} -o {out} --x {typo}", {}, "uses {typo}"),
+    ("icp-slam {input} -o {out}", {}, "has no {config}"),
+    (COMMAND, {"inputs": ["/no/such/dir/*.rawlog"]}, "matches no file"),
+    (COMMAND, {"params": ["ICP.thresholdDist=1"], "config": None}, "no config was given"),
+])
+def test_bad_batch_is_refused(tmp_path, command, kwargs, message, cli):
+    args = dict(inputs=[TELECOM], params=None, config=ICP_SLAM_INI)
+    args.update(kwargs)
+    with pytest.raises(batch.BatchError, match=message.replace("{", r"\{").replace("}", r"\}")):
+        batch.run(command, args["inputs"], args["params"], config=args["config"], out=tmp_path,
+                  serial=True, rove=cli)
+
+
+def test_cli_refuses_a_bad_grid(tmp_path, cli):
+    proc = subprocess.run([cli, "batch", COMMAND, "-c", ICP_SLAM_INI, "-i", TELECOM,
+                           "-p", "ICP.thresholdDist=0.5,,1", "-o", tmp_path], capture_output=True, text=True)
+    assert proc.returncode == 1
+    assert proc.stderr.strip() == ("rove batch: error: --param 'ICP.thresholdDist=0.5,,1': "
+                                   "empty value in the list '0.5,,1'")
+    proc = subprocess.run([cli, "batch", "--no-such-flag"], capture_output=True, text=True)
+    assert proc.returncode == 2 and "usage: rove batch" in proc.stderr
+
+
+def test_parse_param_types():
+    assert batch.parse_param("ICP.thresholdDist=0.5,1,2e-1") == ("ICP.thresholdDist", [0.5, 1, 0.2])
+    assert batch.parse_param("method=icp, gicp") == ("method", ["icp", "gicp"])
+    assert batch.parse_grid({"seed": 3}) == {"seed": [3]}
+
+
+@pytest.mark.datasets
+def test_relations_on_aces(tmp_path, cli):
+    aces = dataset("radish/aces.clf.bz2")
+    dataset("radish/aces.relations")
+    result = batch.run("icp-slam {config} {input} -o {out} --no-progress --max-range 50", [aces], None,
+                       config=pathlib.Path(ICP_SLAM_INI).parents[1] / "icp-slam_carmen.ini",
+                       out=tmp_path, serial=True, rove=cli, eval="relations")
+    e = result.runs[0].eval["relations"]
+    # docs/eval.md: 1,279 of 1,279 relations, translation 0.0873 ± 0.2275 m.
+    assert e["used"] == 1279 and e["translation_m.mean"] == pytest.approx(0.0873, abs=5e-5)
+    assert e["translation_m.std"] == pytest.approx(0.2275, abs=5e-5)
