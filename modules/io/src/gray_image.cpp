@@ -253,6 +253,93 @@ class PgmCursor {
   std::size_t pos_ = 0;
 };
 
+// A PGM header after its two magic bytes (checked by the caller).
+struct PgmHeader {
+  std::uint64_t width = 0, height = 0, maxval = 0;
+  std::size_t size_at = 0;  // offset of the width
+};
+
+PgmHeader read_pgm_header(PgmCursor& c, std::string_view source) {
+  c.advance(2);
+  if (c.remaining() > 0 && !std::isspace(*c.here()) && *c.here() != '#') {
+    fail(source, 2, "magic", "expected whitespace after the magic number");
+  }
+  PgmHeader h;
+  h.size_at = c.pos();
+  h.width = c.number("width", std::uint64_t{1} << 32);
+  h.height = c.number("height", std::uint64_t{1} << 32);
+  h.maxval = c.number("maxval", 65535);
+  if (h.maxval == 0) fail(source, c.pos(), "maxval", "maxval must be 1 to 65535, got 0");
+  return h;
+}
+
+// A PNG opened for decoding: signature checked, decoder created with the
+// limits, header read for `target` and checked against the limits and
+// against what the bytes left can hold.
+class PngDecoder {
+ public:
+  PngDecoder(std::span<const std::uint8_t> data, std::string_view source, const ImageLimits& limits,
+             PngTarget target)
+      : source_(source) {
+    static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (data.size() < 8 || std::memcmp(data.data(), kSignature, 8) != 0) {
+      const bool prefix =
+          data.size() < 8 && std::equal(data.begin(), data.end(), std::begin(kSignature));
+      fail(source, 0, "signature",
+           prefix ? "truncated PNG: incomplete signature" : "not a PNG file (bad signature)");
+    }
+    in_.data = data.data();
+    in_.size = data.size();
+    g_.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, in_.message, png_error_callback,
+                                    png_warning_callback);
+    if (g_.png != nullptr) g_.info = png_create_info_struct(g_.png);
+    if (g_.png == nullptr || g_.info == nullptr) {
+      throw IoError(std::string(source), "cannot create the PNG decoder");
+    }
+    png_set_read_fn(g_.png, &in_, png_read_callback);
+    png_set_user_limits(g_.png, limits.max_side, limits.max_side);
+    png_set_chunk_malloc_max(g_.png, 8u << 20);
+    png_set_chunk_cache_max(g_.png, 1000);
+    if (!png_read_header(g_.png, g_.info, &h_, target)) fail_at("header");
+    check_declared_size(source, 16, h_.width, h_.height, limits);
+    // Deflate cannot compress better than 1032:1, so the raw scanlines the
+    // header declares must fit in the bytes that remain (times that ratio).
+    const std::uint64_t raw_row =
+        (static_cast<std::uint64_t>(h_.width) * static_cast<unsigned>(h_.bit_depth * h_.channels_in) + 7) / 8 + 1;
+    const std::uint64_t raw = raw_row * h_.height;
+    const std::uint64_t left = data.size() - in_.pos;
+    if (raw > 1032 * left + 1032) {
+      fail(source, 16, "size",
+           fmt::format("declares {} x {} pixels ({} bytes of scanlines), more than the {} bytes "
+                       "left in the file can hold",
+                       h_.width, h_.height, raw, left));
+    }
+  }
+  const PngHeader& header() const { return h_; }
+  png_structp png() const { return g_.png; }
+  png_infop info() const { return g_.info; }
+  // libpng stopped: truncated data or its own message, at the byte reached.
+  [[noreturn]] void fail_at(std::string_view field) const {
+    fail(source_, in_.pos, field,
+         in_.ran_out ? std::string("truncated PNG: unexpected end of data")
+                     : fmt::format("invalid PNG: {}", in_.message));
+  }
+  // Every row (interlaced or not) into one buffer of rowbytes × height.
+  std::vector<std::uint8_t> read_all() {
+    std::vector<std::uint8_t> buf(h_.rowbytes_out * h_.height);
+    std::vector<png_bytep> rows(h_.height);
+    for (std::uint32_t y = 0; y < h_.height; ++y) rows[y] = buf.data() + h_.rowbytes_out * y;
+    if (!png_read_whole(g_.png, g_.info, rows.data())) fail_at("image data");
+    return buf;
+  }
+
+ private:
+  std::string_view source_;
+  PngInput in_;
+  PngReadGuard g_;
+  PngHeader h_;
+};
+
 }  // namespace
 
 ImageFormat image_format_from_path(std::string_view path) {
@@ -268,64 +355,24 @@ ImageFormat image_format_from_path(std::string_view path) {
 
 GrayImage decode_png(std::span<const std::uint8_t> data, std::string_view source,
                      const ImageLimits& limits) {
-  static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (data.size() < 8 || std::memcmp(data.data(), kSignature, 8) != 0) {
-    const bool prefix =
-        data.size() < 8 && std::equal(data.begin(), data.end(), std::begin(kSignature));
-    fail(source, 0, "signature",
-         prefix ? "truncated PNG: incomplete signature" : "not a PNG file (bad signature)");
-  }
-  PngInput in;
-  in.data = data.data();
-  in.size = data.size();
-  PngReadGuard g;
-  g.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, in.message, png_error_callback,
-                                 png_warning_callback);
-  if (g.png != nullptr) g.info = png_create_info_struct(g.png);
-  if (g.png == nullptr || g.info == nullptr) throw IoError(std::string(source), "cannot create the PNG decoder");
-  png_set_read_fn(g.png, &in, png_read_callback);
-  png_set_user_limits(g.png, limits.max_side, limits.max_side);
-  png_set_chunk_malloc_max(g.png, 8u << 20);
-  png_set_chunk_cache_max(g.png, 1000);
-  const auto png_fail = [&](std::string_view field) {
-    fail(source, in.pos, field,
-         in.ran_out ? std::string("truncated PNG: unexpected end of data")
-                    : fmt::format("invalid PNG: {}", in.message));
-  };
-  PngHeader h;
-  if (!png_read_header(g.png, g.info, &h)) png_fail("header");
-  check_declared_size(source, 16, h.width, h.height, limits);
-  // Deflate cannot compress better than 1032:1, so the raw scanlines the
-  // header declares must fit in the bytes that remain (times that ratio).
-  const std::uint64_t raw_row =
-      (static_cast<std::uint64_t>(h.width) * static_cast<unsigned>(h.bit_depth * h.channels_in) + 7) / 8 + 1;
-  const std::uint64_t raw = raw_row * h.height;
-  const std::uint64_t left = data.size() - in.pos;
-  if (raw > 1032 * left + 1032) {
-    fail(source, 16, "size",
-         fmt::format("declares {} x {} pixels ({} bytes of scanlines), more than the {} bytes "
-                     "left in the file can hold",
-                     h.width, h.height, raw, left));
-  }
+  PngDecoder d(data, source, limits, PngTarget::Gray8);
+  const PngHeader& h = d.header();
   GrayImage img;
   img.width = h.width;
   img.height = h.height;
   img.pixels.resize(static_cast<std::size_t>(h.width) * h.height);
   if (h.interlace == PNG_INTERLACE_NONE) {
     std::vector<std::uint8_t> row(h.rowbytes_out);
-    if (!png_read_rows_progressive(g.png, g.info, &h, row.data(), img.pixels.data())) {
-      png_fail("image data");
+    if (!png_read_rows_progressive(d.png(), d.info(), &h, row.data(), img.pixels.data())) {
+      d.fail_at("image data");
     }
     return img;
   }
-  std::vector<std::uint8_t> buf(h.rowbytes_out * h.height);
-  std::vector<png_bytep> rows(h.height);
-  for (std::uint32_t y = 0; y < h.height; ++y) rows[y] = buf.data() + h.rowbytes_out * y;
-  if (!png_read_whole(g.png, g.info, rows.data())) png_fail("image data");
+  const std::vector<std::uint8_t> buf = d.read_all();
   const int c = h.channels_out;
   for (std::uint32_t y = 0; y < h.height; ++y) {
     for (std::uint32_t x = 0; x < h.width; ++x) {
-      const std::uint8_t* p = rows[y] + static_cast<std::size_t>(x) * static_cast<std::size_t>(c);
+      const std::uint8_t* p = buf.data() + h.rowbytes_out * y + static_cast<std::size_t>(x) * static_cast<std::size_t>(c);
       img.pixels[static_cast<std::size_t>(y) * h.width + x] =
           c >= 3 ? static_cast<std::uint8_t>((p[0] + p[1] + p[2]) / 3) : p[0];
     }
@@ -343,49 +390,12 @@ template <typename Refuse>
 std::vector<std::uint8_t> decode_png_samples(std::span<const std::uint8_t> data, std::string_view source,
                                              const ImageLimits& limits, PngTarget target,
                                              PngHeader& h, Refuse&& refuse) {
-  static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (data.size() < 8 || std::memcmp(data.data(), kSignature, 8) != 0) {
-    const bool prefix =
-        data.size() < 8 && std::equal(data.begin(), data.end(), std::begin(kSignature));
-    fail(source, 0, "signature",
-         prefix ? "truncated PNG: incomplete signature" : "not a PNG file (bad signature)");
-  }
-  PngInput in;
-  in.data = data.data();
-  in.size = data.size();
-  PngReadGuard g;
-  g.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, in.message, png_error_callback,
-                                 png_warning_callback);
-  if (g.png != nullptr) g.info = png_create_info_struct(g.png);
-  if (g.png == nullptr || g.info == nullptr) throw IoError(std::string(source), "cannot create the PNG decoder");
-  png_set_read_fn(g.png, &in, png_read_callback);
-  png_set_user_limits(g.png, limits.max_side, limits.max_side);
-  png_set_chunk_malloc_max(g.png, 8u << 20);
-  png_set_chunk_cache_max(g.png, 1000);
-  const auto png_fail = [&](std::string_view field) {
-    fail(source, in.pos, field,
-         in.ran_out ? std::string("truncated PNG: unexpected end of data")
-                    : fmt::format("invalid PNG: {}", in.message));
-  };
-  if (!png_read_header(g.png, g.info, &h, target)) png_fail("header");
-  check_declared_size(source, 16, h.width, h.height, limits);
+  PngDecoder d(data, source, limits, target);
+  h = d.header();
   if (target == PngTarget::Native16) refuse(h);
-  const std::uint64_t raw_row =
-      (static_cast<std::uint64_t>(h.width) * static_cast<unsigned>(h.bit_depth * h.channels_in) + 7) / 8 + 1;
-  const std::uint64_t left = data.size() - in.pos;
-  if (raw_row * h.height > 1032 * left + 1032) {
-    fail(source, 16, "size",
-         fmt::format("declares {} x {} pixels ({} bytes of scanlines), more than the {} bytes "
-                     "left in the file can hold",
-                     h.width, h.height, raw_row * h.height, left));
-  }
   check_memory_budget(checked_bytes(static_cast<std::uint64_t>(h.rowbytes_out) * h.height, 1),
                       fmt::format("{}: {} \u00d7 {} pixels", source, h.width, h.height));
-  std::vector<std::uint8_t> buf(h.rowbytes_out * h.height);
-  std::vector<png_bytep> rows(h.height);
-  for (std::uint32_t y = 0; y < h.height; ++y) rows[y] = buf.data() + h.rowbytes_out * y;
-  if (!png_read_whole(g.png, g.info, rows.data())) png_fail("image data");
-  return buf;
+  return d.read_all();
 }
 
 // "8-bit with 3 channel(s)" for the refusal of a depth image.
@@ -419,17 +429,10 @@ DepthImage16 decode_depth_image(std::span<const std::uint8_t> data, std::string_
     if (data[1] == '2') fail(source, 0, "magic", "a depth PGM must be binary (P5), not ASCII (P2)");
     if (data[1] != '5') fail(source, 0, "magic", "not a PGM depth image (expected P5)");
     PgmCursor c(data, source);
-    c.advance(2);
-    if (c.remaining() > 0 && !std::isspace(*c.here()) && *c.here() != '#') {
-      fail(source, 2, "magic", "expected whitespace after the magic number");
-    }
-    const std::size_t size_at = c.pos();
-    const std::uint64_t w = c.number("width", std::uint64_t{1} << 32);
-    const std::uint64_t h = c.number("height", std::uint64_t{1} << 32);
-    const std::uint64_t maxval = c.number("maxval", 65535);
-    if (maxval == 0) fail(source, c.pos(), "maxval", "maxval must be 1 to 65535, got 0");
-    if (maxval < 256) refuse_depth(source, size_at, 8, 1);
-    check_declared_size(source, size_at, w, h, limits);
+    const PgmHeader ph = read_pgm_header(c, source);
+    const std::uint64_t w = ph.width, h = ph.height, maxval = ph.maxval;
+    if (maxval < 256) refuse_depth(source, ph.size_at, 8, 1);
+    check_declared_size(source, ph.size_at, w, h, limits);
     if (c.remaining() == 0) fail(source, c.pos(), "maxval", "truncated PGM: no image data");
     c.advance(1);
     const std::uint64_t n = w * h;
@@ -485,16 +488,9 @@ GrayImage decode_pgm(std::span<const std::uint8_t> data, std::string_view source
   }
   const bool binary = data[1] == '5';
   PgmCursor c(data, source);
-  c.advance(2);
-  if (c.remaining() > 0 && !std::isspace(*c.here()) && *c.here() != '#') {
-    fail(source, 2, "magic", "expected whitespace after the magic number");
-  }
-  const std::size_t size_at = c.pos();
-  const std::uint64_t w = c.number("width", std::uint64_t{1} << 32);
-  const std::uint64_t h = c.number("height", std::uint64_t{1} << 32);
-  const std::uint64_t maxval = c.number("maxval", 65535);
-  if (maxval == 0) fail(source, c.pos(), "maxval", "maxval must be 1 to 65535, got 0");
-  check_declared_size(source, size_at, w, h, limits);
+  const PgmHeader ph = read_pgm_header(c, source);
+  const std::uint64_t w = ph.width, h = ph.height, maxval = ph.maxval;
+  check_declared_size(source, ph.size_at, w, h, limits);
   const std::uint64_t n = w * h;
   GrayImage img;
   const auto scale = [maxval](std::uint64_t v) {

@@ -197,15 +197,25 @@ TEST(TiledGrid, LikelihoodEqualsFlatModel) {
 
 // log_likelihood_above: the exact value unless it may stop, and when it
 // stops, an upper bound of the exact value below the floor asked for.
-TEST(TiledGrid, LikelihoodAboveAFloorStopsOnlyBelowIt) {
-  std::mt19937_64 rng(11);
-  GridInsertionOptions ins;
+// The room seen from every test pose, and the likelihood field the
+// proposal tests use on it.
+TiledGrid room_tiled_grid(std::mt19937_64& rng, const GridInsertionOptions& ins) {
   TiledGrid tiled(kRes);
   for (const SE2d& p : poses()) insert_scan(tiled, room_scan(p, rng), p, ins);
+  return tiled;
+}
+TiledLikelihoodField room_field(const GridInsertionOptions& ins) {
   GridLikelihoodOptions lo;
   lo.lf_max_corrs_distance = 0.3f;
   lo.lf_std_hit = 0.05f;
-  const TiledLikelihoodField field(kRes, lo, ins);
+  return TiledLikelihoodField(kRes, lo, ins);
+}
+
+TEST(TiledGrid, LikelihoodAboveAFloorStopsOnlyBelowIt) {
+  std::mt19937_64 rng(11);
+  GridInsertionOptions ins;
+  TiledGrid tiled = room_tiled_grid(rng, ins);
+  const TiledLikelihoodField field = room_field(ins);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int stopped = 0;
   for (int i = 0; i < 200; ++i) {
@@ -234,12 +244,8 @@ TEST(TiledGrid, LikelihoodAboveAFloorStopsOnlyBelowIt) {
 TEST(TiledGrid, DistanceMemoGivesTheSameLikelihoods) {
   std::mt19937_64 rng(13);
   GridInsertionOptions ins;
-  TiledGrid tiled(kRes);
-  for (const SE2d& p : poses()) insert_scan(tiled, room_scan(p, rng), p, ins);
-  GridLikelihoodOptions lo;
-  lo.lf_max_corrs_distance = 0.3f;
-  lo.lf_std_hit = 0.05f;
-  const TiledLikelihoodField field(kRes, lo, ins);
+  TiledGrid tiled = room_tiled_grid(rng, ins);
+  const TiledLikelihoodField field = room_field(ins);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   // A large memo and one of 16 slots (8 kept, the rest computed each time).
   TiledDistanceMemo memo, tiny(4);
