@@ -41,7 +41,7 @@ import time
 from typing import Any, Callable, Iterable, Mapping, Optional, Sequence, Union
 
 __all__ = ["BatchError", "RunFailed", "Run", "BatchResult", "Eval", "parse_param", "parse_grid",
-           "expand_inputs", "find_rove", "plan", "run", "main"]
+           "expand_inputs", "find_rove", "plan", "execute", "write_table", "run", "main"]
 
 # Exit statuses of the rove command line (README, "What rove tells you").
 _EXIT_OK, _EXIT_ISSUES = 0, 3
@@ -799,7 +799,7 @@ def _run_dask(tasks, scheduler, client, workers, retries, done) -> None:
             n = workers or os.cpu_count() or 1
             # Warnings of failed tasks are the table's error column already.
             cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=logging.ERROR)
+                                   dashboard_address=":0", silence_logs=logging.ERROR)
             own.append(cluster)
             client = Client(cluster)
         own.insert(0, client)

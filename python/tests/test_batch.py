@@ -32,7 +32,7 @@ def cluster():
     distributed = pytest.importorskip("distributed")
     import logging
     c = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                 dashboard_address=None, silence_logs=logging.CRITICAL)
+                                 dashboard_address=":0", silence_logs=logging.CRITICAL)
     client = distributed.Client(c)
     yield client
     client.close()
