@@ -325,7 +325,7 @@ def plan(job: Union[str, Callable], inputs: Any = None, params: Any = None, *,
                                      f"(sections: {', '.join(sorted(sections.values())) or 'none'})")
     evals = _evals(eval)
     spec: dict[str, Any] = {"out_dir": str(out_dir), "config": config_path, "timeout": timeout,
-                            "evals": [(e.kind, e.reference, e.trajectory) for e in evals]}
+                            "evals": evals}
     if evals or isinstance(job, str):
         spec["rove"] = find_rove(rove)
     if isinstance(job, str):
@@ -492,24 +492,21 @@ def _command_argv(task: Mapping[str, Any], folder: pathlib.Path, config: Optiona
             used.add(m.group(1))
             return str(values[m.group(1)])
         argv.append(_PLACEHOLDER.sub(sub, arg))
-    for n, v in task["params"].items():
+    for n, v in task["params"].items():  # the others are options: --name=value
         if "." not in n and n not in used:
-            argv += [("--" if len(n) > 1 else "-") + n, _value_text(v)]
+            argv += [f"--{n}={_value_text(v)}"] if len(n) > 1 else [f"-{n}", _value_text(v)]
     return argv
 
 
 def _evaluate(task: Mapping[str, Any], folder: pathlib.Path, record: dict) -> None:
-    for kind, reference, trajectory in task["evals"]:
-        ref = Eval.__new__(Eval)
-        ref.kind, ref.reference, ref.trajectory = kind, reference, trajectory
-        ref_file = ref.reference_for(task["input"])
-        key = f"{kind}"
-        if ref_file is None:
-            record["eval"][key] = {"skipped": "no relations file beside the input"}
+    for ev in task["evals"]:
+        kind, key = ev.kind, ev.kind
+        ref_file = ev.reference_for(task["input"])
+        if ref_file is None:  # relations beside the input, and this input has none
             continue
-        est = folder / trajectory
+        est = folder / ev.trajectory
         if not est.is_file():
-            raise RunFailed(f"eval {kind}: the run wrote no {trajectory}")
+            raise RunFailed(f"eval {kind}: the run wrote no {ev.trajectory}")
         argv = [task["rove"], "eval", kind]
         argv += [str(est), ref_file] if kind == "relations" else [ref_file, str(est)]
         if kind == "relations" and task["input"] and not task["input"].endswith((".g2o", ".graph")):
@@ -756,7 +753,7 @@ def run(job: Union[str, Callable], inputs: Any = None, params: Any = None, *,
     header = {"job": job if isinstance(job, str) else getattr(job, "__qualname__", repr(job)),
               "config": tasks[0]["config"] if tasks else None,
               "params": {k: v for k, v in parse_grid(params).items()},
-              "eval": [list(e[:2]) for e in (tasks[0]["evals"] if tasks else [])],
+              "eval": [[e.kind, e.reference, e.trajectory] for e in (tasks[0]["evals"] if tasks else [])],
               "scheduler": "serial" if serial else (scheduler or ("client" if client else "local")),
               "retries": retries}
     start = time.perf_counter()
@@ -817,7 +814,10 @@ def _run_dask(tasks, scheduler, client, workers, retries, done) -> None:
             if f.status == "finished":
                 done(f.result())
                 continue
-            exc = f.exception()
+            try:
+                exc = f.exception()
+            except BaseException as e:  # cancelled: its worker or the scheduler went away
+                exc = e
             if isinstance(exc, RunFailed):  # the job failed retries + 1 times
                 done(_failed_row(task, _error_text(exc)))
                 continue

@@ -52,7 +52,7 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
-def test_killed_worker_still_gives_every_result_as_serial(tmp_path, cli, cluster):
+def killed_worker_run(tmp_path, cli, cluster):
     grid = {"ICP.thresholdDist": [0.5, 0.75, 1.0, 1.25], "max-steps": [180, 224]}  # 8 runs
     serial = batch.run(COMMAND, [TELECOM], grid, config=ICP_SLAM_INI, out=tmp_path / "serial",
                        serial=True, rove=cli)
@@ -95,6 +95,23 @@ def test_killed_worker_still_gives_every_result_as_serial(tmp_path, cli, cluster
     assert not list((tmp_path / "dask" / "runs").glob(".*"))
 
 
+def test_killed_worker_still_gives_every_result_as_serial(tmp_path, cli, cluster):
+    killed_worker_run(tmp_path, cli, cluster)
+
+
+def test_killed_worker_given_up_by_dask_is_sent_again(tmp_path, cli):
+    # allowed-failures 0: the scheduler does not reschedule the dead worker's
+    # task but fails it (KilledWorker); rove.batch submits it again itself.
+    distributed = pytest.importorskip("distributed")
+    import dask
+    import logging
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                      dashboard_address=":0", silence_logs=logging.CRITICAL) as c, \
+                distributed.Client(c) as client:
+            killed_worker_run(tmp_path, cli, client)
+
+
 def test_table_holds_each_runs_parameters_and_figures(tmp_path, cli, cluster):
     result = batch.run(COMMAND, [TELECOM], ["ICP.thresholdDist=0.6,0.9", "max-steps=120"],
                        config=ICP_SLAM_INI, out=tmp_path, client=cluster, rove=cli)
@@ -119,7 +136,7 @@ def test_table_holds_each_runs_parameters_and_figures(tmp_path, cli, cluster):
         assert config.startswith(ICP_SLAM_INI.read_text().rstrip("\n"))
         assert config.rstrip().endswith(f"[ICP]\nthresholdDist = {value}")
         run_json = json.loads((folder / "run.json").read_text())
-        assert run_json["status"] == "ok" and "--max-steps 120" in run_json["command"]
+        assert run_json["status"] == "ok" and "--max-steps=120" in run_json["command"]
         assert {f.name for f in folder.iterdir()} >= {"path.tum", "summary.json", "run.json", "config.ini"}
     # The same run made by hand with that config gives the same figures.
     handmade = tmp_path / "handmade"
