@@ -330,7 +330,7 @@ def plan(job: Union[str, Callable], inputs: Any = None, params: Any = None, *,
         spec["rove"] = find_rove(rove)
     if isinstance(job, str):
         argv = shlex.split(job)
-        if argv and argv[0] in ("rove", "rove-cli") or (argv and os.path.basename(argv[0]) == "rove"):
+        if argv and os.path.basename(argv[0]) == "rove":
             argv = argv[1:]
         if not argv:
             raise BatchError("the command is empty (e.g. \"icp-slam {config} {input} -o {out}\")")
@@ -350,13 +350,13 @@ def plan(job: Union[str, Callable], inputs: Any = None, params: Any = None, *,
         if "config" in used and config_path is None:
             raise BatchError("the command uses {config} but no config was given (--config FILE)")
         for n in grid:
-            if "." not in n and n not in used and n in _RESERVED:
+            if n in _RESERVED:
                 raise BatchError(f"parameter '{n}' has the name of a placeholder the batch sets")
         spec["kind"] = "command"
         spec["argv"] = argv
     elif callable(job):
         spec["kind"] = "callable"
-        spec["callable"] = job
+        spec["callable"] = _job_reference(job)
         if not files:
             raise BatchError("a Python job needs inputs (it is called as job(input, **params))")
     else:
@@ -371,6 +371,27 @@ def plan(job: Union[str, Callable], inputs: Any = None, params: Any = None, *,
         runs.append(dict(spec, index=i, name=name, input=str(f) if f else None, params=combo,
                          folder=str(out_dir / "runs" / name)))
     return runs
+
+
+def _job_reference(fn: Callable) -> Any:
+    """What travels to the workers for a Python job: "module:name" for a
+    function importable by name (rove's entry points are compiled functions,
+    which pickle cannot send), else the callable itself (pickled by Dask)."""
+    module, name = getattr(fn, "__module__", None), getattr(fn, "__name__", None)
+    if module and name:
+        try:
+            if getattr(__import__(module, fromlist=[name]), name) is fn:
+                return f"{module}:{name}"
+        except (ImportError, AttributeError):
+            pass
+    return fn
+
+
+def _resolve_job(ref: Any) -> Callable:
+    if isinstance(ref, str):
+        module, _, name = ref.partition(":")
+        return getattr(__import__(module, fromlist=[name]), name)
+    return ref
 
 
 def _evals(spec) -> list[Eval]:
@@ -532,7 +553,7 @@ def _write_tum(path: pathlib.Path, times, poses) -> None:
 
 
 def _call_library(task: Mapping[str, Any], folder: pathlib.Path, record: dict) -> None:
-    fn = task["callable"]
+    fn = _resolve_job(task["callable"])
     overrides: dict[str, dict] = {}
     kwargs: dict[str, Any] = {}
     for n, v in task["params"].items():
