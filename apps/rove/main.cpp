@@ -12,6 +12,9 @@
 #include "rove/core/error.h"
 #include "rove/core/files.h"
 #include "rove/core/interrupt.h"
+#ifdef ROVE_HAVE_ROS
+#include "rove/ros/bag_reader.h"
+#endif
 
 namespace {
 
@@ -103,6 +106,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("rove ") + ROVE_VERSION);
   auto* version = app.add_subcommand("version", "Print rove's version");
   version->callback([] { fmt::print("rove {}\n", ROVE_VERSION); });
+#ifdef ROVE_HAVE_ROS
+  rove::register_bag_reader();  // AnyRawlogReader, so every command, reads ROS bags
+#endif
   rove::cli::add_demo_command(app);
   rove::cli::add_config_command(app);
   rove::cli::add_rawlog_command(app);

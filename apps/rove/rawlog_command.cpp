@@ -25,6 +25,9 @@
 #include "rove/obs/selection_error.h"
 #include "rove/obs/sensory_frame.h"
 #include "rove/serialization/input_file.h"
+#ifdef ROVE_HAVE_ROS
+#include "rove/ros/bag_writer.h"
+#endif
 
 namespace rove::cli {
 
@@ -40,10 +43,16 @@ struct RawlogInfoOptions {
   float max_range = kDefaultCarmenMaxRange;
 };
 
-AnyRawlogOptions read_options(float carmen_max_range) {
+AnyRawlogOptions read_options(float carmen_max_range,
+                              const std::vector<std::string>& bag_topics = {}) {
   AnyRawlogOptions o;
   o.carmen.log.flaser_max_range = carmen_max_range;
+  o.bag.topics = bag_topics;
   return o;
+}
+
+bool is_bag_path(const std::string& path) {
+  return path.size() >= 4 && path.compare(path.size() - 4, 4, ".bag") == 0;
 }
 
 // The --max-range flag of every command that reads a rawlog.
@@ -83,6 +92,8 @@ struct RawlogSummary {
   std::optional<Timestamp> first, last;
   // CARMEN logs: the reader's counts (maximum ranges used).
   std::optional<CarmenLogStats> carmen;
+  // What the reader left out (ROS bags: messages by topic, where it stopped).
+  std::vector<std::string> skipped;
 
   void add_time(Timestamp t) {
     if (!t.valid()) return;
@@ -170,6 +181,7 @@ RawlogSummary summarize(const std::string& path, bool show_progress, float max_r
   progress.finish();
   s.bytes = format == RawlogFormat::Carmen ? 0 : reader.position();
   if (const auto* c = reader.carmen()) s.carmen = c->stats().log;
+  s.skipped = reader.skipped();
   return s;
 }
 
@@ -198,6 +210,8 @@ void print_text(const std::string& path, RawlogFormat format, const RawlogSummar
   fmt::print("actions: {}\n", s.actions);
   for (const auto& [kind, n] : s.action_kinds) fmt::print("  {:>8}  {}\n", n, kind);
   if (s.carmen) fmt::print("CARMEN maximum range: {}\n", carmen_ranges(*s.carmen));
+  fmt::print("skipped:{}\n", s.skipped.empty() ? " nothing" : "");
+  for (const auto& line : s.skipped) fmt::print("  {}\n", line);
 }
 
 void print_json(const std::string& path, RawlogFormat format, const RawlogSummary& s) {
@@ -235,6 +249,9 @@ void print_json(const std::string& path, RawlogFormat format, const RawlogSummar
     j.key("rlaser_from_log").value(s.carmen->rear_max_range_from_log);
     j.end_object();
   }
+  j.key("skipped").begin_array();
+  for (const auto& line : s.skipped) j.value(line);
+  j.end_array();
   write_issues(j, {});
   j.end_object();
   fmt::print("{}\n", j.str());
@@ -242,13 +259,18 @@ void print_json(const std::string& path, RawlogFormat format, const RawlogSummar
 
 // What a job kept and dropped, per class, on stdout.
 void print_job(const std::string& verb, const std::string& in, const std::string& out,
-               const RawlogJobResult& r) {
+               const RawlogJobResult& r, bool bag_out = false) {
   fmt::print("{} {} ({}) -> {}\n", verb, printable(in), to_string(r.input_format), printable(out));
-  fmt::print("entries: {} read, {} written\n", r.entries_in, r.entries_out);
+  if (bag_out) {
+    fmt::print("entries: {} read, {} messages written\n", r.entries_in, r.entries_out);
+  } else {
+    fmt::print("entries: {} read, {} written\n", r.entries_in, r.entries_out);
+  }
   fmt::print("kept:\n");
   for (const auto& [k, n] : r.kept) fmt::print("  {:>8}  {}\n", n, k);
-  fmt::print("dropped:{}\n", r.dropped.empty() ? " none" : "");
+  fmt::print("dropped:{}\n", r.dropped.empty() && r.reader_skipped.empty() ? " none" : "");
   for (const auto& [k, n] : r.dropped) fmt::print("  {:>8}  {}\n", n, k);
+  for (const auto& line : r.reader_skipped) fmt::print("  {}\n", line);
 }
 
 void print_export(const RawlogJobResult& r) {
@@ -310,10 +332,12 @@ struct JobOptions {
   std::uint64_t every = 1;
   std::string label;
   float max_range = kDefaultCarmenMaxRange;
+  std::vector<std::string> topics;
+  std::string compression = "lz4";
 };
 
 void add_io(CLI::App* cmd, JobOptions& o, const std::string& out_help) {
-  cmd->add_option("input", o.in, "rove rawlog, MRPT rawlog (plain or gzip) or CARMEN log (plain or bzip2)")
+  cmd->add_option("input", o.in, "rove rawlog, MRPT rawlog (plain or gzip), CARMEN log (plain or bzip2) or ROS bag")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("output", o.out, out_help)->required();
@@ -347,13 +371,13 @@ void add_text_export(CLI::App* rawlog, const std::shared_ptr<JobOptions>& job,
 
 void add_rawlog_command(CLI::App& app) {
   auto* rawlog = app.add_subcommand(
-      "rawlog", "Inspect, convert and export robot datasets (rove and MRPT rawlogs, CARMEN logs)");
+      "rawlog", "Inspect, convert and export robot datasets (rove and MRPT rawlogs, CARMEN logs, ROS bags)");
   rawlog->require_subcommand(1);
   auto options = std::make_shared<RawlogInfoOptions>();
   auto* info = rawlog->add_subcommand(
       "info", "Stream a rawlog once and count its entries per type and sensor label");
   info->add_option("file", options->file,
-                   "rove rawlog, MRPT rawlog (plain or gzip) or CARMEN log (plain or bzip2)")
+                   "rove rawlog, MRPT rawlog (plain or gzip), CARMEN log (plain or bzip2) or ROS bag")
       ->required()
       ->check(CLI::ExistingFile);
   info->add_flag("--json", options->json, "Print one JSON object instead of text");
@@ -376,18 +400,53 @@ void add_rawlog_command(CLI::App& app) {
       "convert",
       "Convert an MRPT rawlog, a CARMEN log or a rove rawlog to a rove rawlog (gzip by default), "
       "reporting what was kept and dropped per class");
-  add_io(convert, *job, "rove rawlog to write");
+  add_io(convert, *job, "rove rawlog to write, or a ROS bag when it ends in .bag");
+  convert->add_option("--topics", job->topics,
+                      "ROS bag input: read only these topics (e.g. /scan /odom; /tf and "
+                      "camera_info topics are always used for sensor poses and cameras)");
+  convert->add_option("--compression", job->compression, "ROS bag output: chunk compression")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "bz2", "lz4"}));
   convert->add_option("--layout", job->layout,
                       "Output layout: 1 = actions + sensory frames, 2 = observations (default: "
                       "the input's; CARMEN: 1)")
       ->check(CLI::IsMember({1, 2}));
   convert->add_flag("!--no-gzip", job->gzip, "Write plain bytes instead of gzip");
   convert->callback([job] {
+    if (is_bag_path(job->out)) {
+#ifdef ROVE_HAVE_ROS
+      BagWriteOptions o;
+      o.compression = job->compression == "none" ? BagCompression::None
+                      : job->compression == "bz2" ? BagCompression::Bz2
+                                                  : BagCompression::Lz4;
+      o.read = read_options(job->max_range, job->topics);
+      FileProgress progress(job->in, job->progress, "converting");
+      RawlogJobResult r;
+      run_job(job->out, {}, false, [&] {
+        const BagWriteResult w = write_bag(job->in, job->out, o, progress.fn());
+        r.input_format = w.input_format;
+        r.entries_in = w.entries_in;
+        for (const auto& [topic, n] : w.messages_by_topic) {
+          r.kept["messages on " + topic] = n;
+          r.entries_out += n;
+        }
+        r.dropped = w.dropped;
+        return r;
+      });
+      progress.finish();
+      print_job("converted", job->in, job->out, r, true);
+      return;
+#else
+      throw Error(fmt::format("{}: writing ROS bags needs the rove::ros adapter, which this build "
+                              "lacks (Debian's ROS 1 packages: scripts/install-deps --ros)",
+                              printable(job->out)));
+#endif
+    }
     ConvertOptions o;
     if (job->layout == 1) o.layout = RawlogLayout::ActionsSensoryFrames;
     if (job->layout == 2) o.layout = RawlogLayout::Observations;
     o.write = writer_options(job->gzip);
-    o.read = read_options(job->max_range);
+    o.read = read_options(job->max_range, job->topics);
     FileProgress progress(job->in, job->progress, "converting");
     const RawlogJobResult r =
         run_job(job->out, {}, false, [&] { return convert_rawlog(job->in, job->out, o, progress.fn()); });

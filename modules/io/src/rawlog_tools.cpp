@@ -307,7 +307,10 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
   options.motion_model.check();
   check_in_out(in, out);
   AnyRawlogOptions read = options.read;
-  if (options.layout) read.carmen.layout = *options.layout;
+  if (options.layout) {
+    read.carmen.layout = *options.layout;
+    read.bag.layout = *options.layout;
+  }
   AnyRawlogReader reader(in, read);
   RawlogJobResult r;
   r.input_format = reader.format();
@@ -406,6 +409,7 @@ RawlogJobResult convert_rawlog(const std::string& in, const std::string& out,
     }
     finish(r, writer);
   });
+  r.reader_skipped = reader.skipped();
   return r;
 }
 

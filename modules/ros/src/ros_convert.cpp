@@ -16,16 +16,9 @@
 namespace rove::bag_detail {
 namespace {
 
-// float32 holds an angle below 2π to within 4.8e-7 rad; a field of view
-// this close to a whole number of degrees is taken as that number (scanners'
-// apertures are whole degrees, and π itself has no float32 value).
-constexpr double kAngleSnap = 2e-6;
-
-double snap_degrees(double rad) {
-  const double deg = std::round(rad * 180.0 / kPi);
-  const double whole = deg * kPi / 180.0;
-  return std::abs(rad - whole) < kAngleSnap ? whole : rad;
-}
+// Slack between a scan's angle_max − angle_min and angle_increment ·
+// (rays − 1): float32 rounding of each field.
+constexpr double kAngleSlack = 1e-5;
 
 std::uint16_t swap16(std::uint16_t v) { return static_cast<std::uint16_t>((v >> 8) | (v << 8)); }
 
@@ -133,15 +126,23 @@ std::shared_ptr<RangeScan2D> scan_from_ros(const LaserScanMsg& m, const std::str
   if (!std::isfinite(inc) || inc == 0.0 || !std::isfinite(m.angle_min)) {
     throw InvalidArgument(fmt::format("{}: angle_increment {} / angle_min {}", where, inc, m.angle_min));
   }
-  const double aperture = snap_degrees(std::abs(inc) * static_cast<double>(n - 1));
-  if (aperture > 2.0 * kPi + kAngleSnap) {
+  // The field of view: angle_max − angle_min when the rays span it (as
+  // rosbag drivers and rove's writer state it; exact for the float32
+  // apertures of MRPT logs), else what the increment spans.
+  const double spanned = std::abs(inc) * static_cast<double>(n - 1);
+  const double stated = std::abs(double{m.angle_max} - double{m.angle_min});
+  const double aperture = std::abs(stated - spanned) <= kAngleSlack * std::max(1.0, spanned)
+                              ? stated
+                              : spanned;
+  if (aperture > 2.0 * kPi + kAngleSlack) {
     throw InvalidArgument(fmt::format("{}: the rays span {} rad, more than a turn", where, aperture));
   }
   auto s = std::make_shared<RangeScan2D>();
   s->aperture = std::min(aperture, 2.0 * kPi);
   s->right_to_left = inc > 0.0;
-  double center = m.angle_min + inc * static_cast<double>(n - 1) / 2.0;
-  if (std::abs(center) < kAngleSnap) center = 0.0;
+  // The direction of the middle ray: zero for the usual symmetric scans.
+  double center = aperture == stated ? (double{m.angle_min} + double{m.angle_max}) / 2.0
+                                     : m.angle_min + inc * static_cast<double>(n - 1) / 2.0;
   if (center != 0.0) s->T_robot_sensor = Pose3(0, 0, 0, center, 0, 0);
   s->max_range = m.range_max;
   s->ranges = m.ranges;

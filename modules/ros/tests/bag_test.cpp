@@ -313,7 +313,7 @@ TEST(BagReader, EveryTypeAsObservations) {
   EXPECT_EQ(scan->ranges, want.ranges);
   EXPECT_EQ(scan->valid, (std::vector<bool>{true, false, true, false, true}));
   EXPECT_EQ(scan->intensity, (std::vector<std::int32_t>{10, 20, 30, 40, 50}));
-  EXPECT_EQ(scan->aperture, kPi);  // 4 × float(π/4), snapped to 180°
+  EXPECT_EQ(scan->aperture, 2.0 * double(static_cast<float>(kPi / 2)));  // angle_max − angle_min
   EXPECT_TRUE(scan->right_to_left);
   EXPECT_EQ(scan->max_range, 30.0f);
   // The sensor pose from /tf_static: base_link ← laser.
@@ -585,7 +585,7 @@ TEST(BagRoundTrip, RoveEntriesThroughABagComeBackEqual) {
     ASSERT_TRUE(s);
     EXPECT_EQ(s->timestamp, scan.timestamp);
     EXPECT_EQ(s->sensor_label, "LASER");
-    EXPECT_EQ(s->aperture, scan.aperture);
+    EXPECT_EQ(s->aperture, double(static_cast<float>(scan.aperture / 2)) * 2.0);  // float32 in a bag
     EXPECT_EQ(s->right_to_left, false);
     EXPECT_EQ(s->max_range, 20.0f);
     EXPECT_EQ(s->valid, scan.valid);
@@ -640,4 +640,62 @@ TEST(BagRoundTrip, AnyRawlogReaderReadsBagsOnceRegistered) {
   EXPECT_EQ(n, 7u);
   EXPECT_TRUE(has_line(reader.skipped(), "/chatter"));
   EXPECT_EQ(reader.position(), fs::file_size(path));
+}
+
+// MRPT's Telecom Faculty loop (bundled in data/mrpt) through a bag: the same
+// entries, observation by observation.
+TEST(BagTelecom, RawlogThroughABagMatchesTheRawlog) {
+  TempDir dir;
+  const std::string rawlog =
+      std::string(ROVE_SOURCE_DIR) + "/data/mrpt/2006-01ENE-21-SENA_Telecom_Faculty_one_loop_only.rawlog";
+  const std::string bag = dir / "telecom.bag";
+  const BagWriteResult w = write_bag(rawlog, bag);
+  EXPECT_EQ(w.input_format, RawlogFormat::Mrpt);
+  EXPECT_EQ(w.entries_in, 449u);
+  EXPECT_EQ(w.messages_by_topic.at("/scan"), 225u);
+  EXPECT_EQ(w.messages_by_topic.at("/odom"), 225u);  // the identity + 224 increments
+  EXPECT_EQ(w.messages_by_topic.at("/tf_static"), 1u);
+  EXPECT_TRUE(w.dropped.empty());
+
+  const AnyRawlog want = load_any_rawlog(rawlog);
+  BagReader reader(bag);
+  const auto got = read_all(reader);
+  EXPECT_TRUE(reader.skipped().empty()) << ::testing::PrintToString(reader.skipped());
+  ASSERT_EQ(got.size(), want.entries.size());
+  std::size_t scans = 0, moves = 0;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    ASSERT_EQ(got[i].index(), want.entries[i].index()) << "entry " << i;
+    if (const auto* sf = std::get_if<std::shared_ptr<const SensoryFrame>>(&want.entries[i])) {
+      auto a = (*sf)->find<RangeScan2D>();
+      auto b = std::get<std::shared_ptr<const SensoryFrame>>(got[i])->find<RangeScan2D>();
+      ASSERT_TRUE(a && b);
+      EXPECT_EQ(b->timestamp, a->timestamp) << "entry " << i;
+      EXPECT_EQ(b->sensor_label, "scan");  // unlabelled scans go to /scan
+      EXPECT_EQ(b->aperture, a->aperture);
+      EXPECT_EQ(b->right_to_left, a->right_to_left);
+      EXPECT_EQ(b->max_range, a->max_range);
+      EXPECT_EQ(b->valid, a->valid) << "entry " << i;
+      EXPECT_EQ(b->intensity, a->intensity);
+      for (std::size_t k = 0; k < a->size(); ++k) {
+        if (a->valid[k]) {
+          EXPECT_EQ(b->ranges[k], a->ranges[k]) << "entry " << i << " ray " << k;
+        }
+      }
+      EXPECT_LT((b->T_robot_sensor.matrix() - a->T_robot_sensor.matrix()).norm(), 1e-15);
+      EXPECT_EQ(b->points_2d(), a->points_2d());
+      ++scans;
+    } else {
+      auto a = std::get<std::shared_ptr<const ActionCollection>>(want.entries[i])->find<RobotMovement2D>();
+      auto b = std::get<std::shared_ptr<const ActionCollection>>(got[i])->find<RobotMovement2D>();
+      ASSERT_TRUE(a && b);
+      EXPECT_EQ(b->timestamp, a->timestamp) << "entry " << i;
+      // Integrated then differenced: equal to rounding.
+      EXPECT_NEAR(b->odometry_increment.x(), a->odometry_increment.x(), 1e-12) << "entry " << i;
+      EXPECT_NEAR(b->odometry_increment.y(), a->odometry_increment.y(), 1e-12) << "entry " << i;
+      EXPECT_NEAR(b->odometry_increment.phi(), a->odometry_increment.phi(), 1e-12) << "entry " << i;
+      ++moves;
+    }
+  }
+  EXPECT_EQ(scans, 225u);
+  EXPECT_EQ(moves, 224u);
 }

@@ -49,6 +49,8 @@ struct RawlogJobResult {
   std::vector<std::string> files;
   /// Text exports: rows written per file (same order as files).
   std::vector<std::uint64_t> rows;
+  /// What the reader left out (AnyRawlogReader::skipped; convert_rawlog).
+  std::vector<std::string> reader_skipped;
 };
 
 /// Options of convert_rawlog.
