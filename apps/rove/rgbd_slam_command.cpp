@@ -1,6 +1,6 @@
 // `rove rgbd-slam INPUT [--config rgbd.ini] [-o DIR] [--json]`: RGB-D SLAM
-// (rove/slam/rgbd_slam.h) over a TUM RGB-D folder, an ICL-NUIM folder or a
-// folder of numbered frames with a camera file. Built when rove::vision is.
+// (rove/slam/rgbd_slam.h) over a TUM RGB-D folder, an ICL-NUIM folder, a
+// folder of numbered frames with a camera file, or a rawlog of 3D range scans. Built when rove::vision is.
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -152,6 +152,9 @@ std::string summary_json(const RgbdSlamCliOptions& o, const RgbdSequence& seq, c
   j.key("input").value(o.input).key("format").value(std::string(to_string(seq.format)));
   j.key("config").value(o.config).key("preset").value(o.preset.empty() ? std::string("default") : o.preset);
   j.key("camera").value(seq.camera_source).key("depth_scale").value(seq.depth_scale);
+  if (seq.format == RgbdSequenceFormat::Rawlog) {
+    j.key("sensor_label").value(seq.sensor_label).key("other_sensor_scans").value(seq.other_sensor_scans);
+  }
   write_stats(j, slam.stats(), r);
   j.key("sequence_seconds").value(r.last_time - r.first_time);
   if (const auto& g = slam.last_optimization()) {
@@ -266,8 +269,11 @@ void add_rgbd_slam_command(CLI::App& app) {
       "rgbd-slam",
       "RGB-D SLAM (ORB features, PnP visual odometry, keyframes, loop closure, pose graph; cloud "
       "and octree maps) over a "
-      "TUM RGB-D folder, an ICL-NUIM folder or numbered frames with a camera file");
-  cmd->add_option("input", o->input, "the sequence folder")->required();
+      "TUM RGB-D folder, an ICL-NUIM folder, numbered frames with a camera file, or a rawlog of 3D range scans "
+      "(MRPT's CObservation3DRangeScan)");
+  cmd->add_option("input", o->input,
+                  "the sequence folder, or a rawlog (MRPT or rove) of 3D range scans with intensity images")
+      ->required();
   cmd->add_option("--config", o->config,
                   "options: an INI file's [rgbd-slam] section, or a parameters.txt with the RGB-D "
                   "SLAM tutorial's keys (docs/rgbd-slam.md)");
@@ -275,7 +281,7 @@ void add_rgbd_slam_command(CLI::App& app) {
       ->check(CLI::IsMember({"default", "tutorial"}));
   cmd->add_option("--camera", o->camera,
                   "camera file, or tum-fr1|tum-fr2|tum-fr3|tum|icl-nuim|kinect (default: from the "
-                  "folder)");
+                  "folder; a rawlog's scans carry their cameras)");
   cmd->add_option("--depth-scale", o->depth_scale, "depth image units per meter (default: the camera's)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("-o,--output", o->out_dir, "output folder")->capture_default_str();

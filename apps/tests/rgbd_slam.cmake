@@ -30,6 +30,17 @@ add_test(NAME cli.rgbd_slam_no_octree COMMAND ${CMAKE_COMMAND}
 add_test(NAME cli.rgbd_slam_bad_threads COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rgbd-slam --no-progress --threads 100000 ${rove_rg_fr1} -o ${rove_rg_dir}/badthreads"
   -DEXIT=1 "-DREGEX=--threads" -DABSENT=${rove_rg_dir}/badthreads/summary.json -P ${rove_rg_expect})
+# MRPT's tests_rgbd.rawlog (one CObservation3DRangeScan): one pose, the
+# intensity camera; a rawlog without 3D range scans is an error naming it.
+add_test(NAME cli.rgbd_slam_mrpt_rawlog COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> rgbd-slam --no-progress ${ROVE_DATASETS_DIR}/mrpt/tests_rgbd.rawlog -o ${rove_rg_dir}/rawlog"
+  -DEXIT=0 "-DREGEX=rgbd-slam: 1 frames of .*tests_rgbd.rawlog' \\(rawlog, camera rawlog \\('OPENNI2' intensity camera\\)\\).*1 tracked, 0 lost.*1 keyframes.*octree: .*wrote 7 files"
+  -DFILE=${rove_rg_dir}/rawlog/trajectory.tum "-DFILE_REGEX=1462879443\\.617[0-9]+ 0\\.000000 0\\.000000 0\\.000000 0\\.000000000 0\\.000000000 0\\.000000000 1\\.000000000"
+  -P ${rove_rg_expect})
+add_test(NAME cli.rgbd_slam_rawlog_without_scans COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> rgbd-slam --no-progress ${PROJECT_SOURCE_DIR}/data/mrpt/RO-SLAM_demo.rawlog -o ${rove_rg_dir}/noscans"
+  -DEXIT=1 "-DREGEX=RO-SLAM_demo.rawlog.*no 3D range scan \\(CObservation3DRangeScan\\)"
+  -DABSENT=${rove_rg_dir}/noscans/summary.json -P ${rove_rg_expect})
 # Numbered Kinect frames far apart: some are not tracked; the run says so
 # and exits 3 with its files written.
 add_test(NAME cli.rgbd_slam_kinect5_lost COMMAND ${CMAKE_COMMAND}
@@ -63,9 +74,10 @@ add_test(NAME cli.rgbd_slam_misspelt_key COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rgbd-slam --no-progress --camera kinect --config ${rove_rg_dir}/params.txt ${rove_rg_dir}/nocam -o ${rove_rg_dir}/misspelt_out"
   -DEXIT=1 "-DREGEX=params.txt.*good_match_treshold" -P ${rove_rg_expect})
 set_tests_properties(cli.rgbd_slam_fr1 cli.rgbd_slam_tutorial_json cli.rgbd_slam_kinect5_lost
-  cli.rgbd_slam_no_octree cli.rgbd_slam_bad_threads
+  cli.rgbd_slam_no_octree cli.rgbd_slam_bad_threads cli.rgbd_slam_mrpt_rawlog
+  cli.rgbd_slam_rawlog_without_scans
   cli.rgbd_slam_not_a_sequence cli.rgbd_slam_missing_depth cli.rgbd_slam_no_camera
   cli.rgbd_slam_bad_frame cli.rgbd_slam_misspelt_key PROPERTIES LABELS cli)
 rove_dataset_tests(cli.rgbd_slam_fr1 cli.rgbd_slam_tutorial_json cli.rgbd_slam_kinect5_lost
-  cli.rgbd_slam_no_octree cli.rgbd_slam_bad_threads)
+  cli.rgbd_slam_no_octree cli.rgbd_slam_bad_threads cli.rgbd_slam_mrpt_rawlog)
 endif()

@@ -6,6 +6,8 @@
 
 #include "rove/core/interrupt.h"
 #include "rove/core/timer.h"
+#include "rove/io/any_rawlog.h"
+#include "rove/vision/range_image_frame.h"
 #include "rove/vision/rgbd_frame.h"
 
 namespace rove {
@@ -36,6 +38,35 @@ void add_count_issues(const RgbdSlam& slam, const RgbdSequence& sequence, RgbdSl
   }
 }
 
+// The frames of a rawlog sequence, read in order in one pass.
+class RawlogFrames {
+ public:
+  explicit RawlogFrames(const RgbdSequence& s) : sequence_(s), reader_(s.folder) {}
+
+  RgbdFrame frame(const RgbdSequenceFrame& f) {
+    while (!current_ || entry_ < f.rawlog_entry) {
+      if (current_) ++entry_;
+      current_ = reader_.next();
+      if (!current_) break;
+    }
+    std::vector<std::shared_ptr<const RangeImage3D>> scans;
+    if (current_ && entry_ == f.rawlog_entry) scans = range_images_of(*current_);
+    if (f.rawlog_scan >= scans.size()) {
+      throw ParseError({sequence_.folder, std::nullopt, std::nullopt, "CObservation3DRangeScan"},
+                       fmt::format("entry {}: the 3D range scan listed before is not there (the file changed "
+                                   "while it was read)",
+                                   f.rawlog_entry));
+    }
+    return rgbd_frame_from_range_image(*scans[f.rawlog_scan]);
+  }
+
+ private:
+  const RgbdSequence& sequence_;
+  AnyRawlogReader reader_;
+  std::optional<RawlogEntry> current_;
+  std::uint64_t entry_ = 0;
+};
+
 }  // namespace
 
 std::vector<StampedPose3> rgbd_trajectory(const RgbdSlam& slam) {
@@ -50,11 +81,14 @@ RgbdSlamRunResult run_rgbd_slam(RgbdSlam& slam, const RgbdSequence& sequence,
   RgbdSlamRunResult r;
   const std::size_t n = std::min(sequence.frames.size(), options.max_frames.value_or(sequence.frames.size()));
   Stopwatch sw;
+  std::optional<RawlogFrames> rawlog;
+  if (sequence.format == RgbdSequenceFormat::Rawlog) rawlog.emplace(sequence);
   for (std::size_t i = 0; i < n; ++i) {
     throw_if_interrupted();
     const RgbdSequenceFrame& f = sequence.frames[i];
     sw.reset();
-    const RgbdFrame frame = read_rgbd_frame(f.color_path, f.depth_path, sequence.depth_scale);
+    const RgbdFrame frame =
+        rawlog ? rawlog->frame(f) : read_rgbd_frame(f.color_path, f.depth_path, sequence.depth_scale);
     r.read_seconds += sw.lap();
     const RgbdFrameUpdate u = slam.process(frame, f.time);
     r.processing_seconds += sw.lap();

@@ -12,7 +12,10 @@
 #include "rove/core/check.h"
 #include "rove/core/error.h"
 #include "rove/core/files.h"
+#include "rove/core/interrupt.h"
+#include "rove/io/any_rawlog.h"
 #include "rove/io/camera_file.h"
+#include "rove/obs/sensory_frame.h"
 #include "rove/io/tum_trajectory.h"
 
 namespace rove {
@@ -253,10 +256,142 @@ void check_frames_exist(const RgbdSequence& s) {
   }
 }
 
+constexpr const char* kScanField = "CObservation3DRangeScan";
+
+// A rawlog scan's problem, naming the file, the entry and the field.
+[[noreturn]] void scan_error(const std::string& path, std::uint64_t entry, const std::string& field,
+                             const std::string& problem) {
+  throw ParseError({path, std::nullopt, std::nullopt, field}, fmt::format("entry {}: {}", entry, problem));
+}
+
+// The scan's intensity camera, its size taken from the image when it
+// states none (rove/vision/range_image_frame.h's intensity_camera_of).
+PinholeCamera scan_camera(const RangeImage3D& o) {
+  PinholeCamera c = o.intensity_camera;
+  if (c.width == 0 && c.height == 0) {
+    c.width = o.intensity->width;
+    c.height = o.intensity->height;
+  }
+  return c;
+}
+
+// Checks what the pipeline needs of a scan (rgbd_frame_from_range_image's
+// preconditions).
+void check_scan(const RangeImage3D& o, const std::string& path, std::uint64_t entry) {
+  try {
+    o.check();
+  } catch (const InvalidArgument& e) {
+    scan_error(path, entry, kScanField, std::string("the 3D range scan is inconsistent: ") + e.what());
+  }
+  if (o.depth.pixel_count() == 0) {
+    scan_error(path, entry, std::string(kScanField) + ".rangeImage",
+               "the 3D range scan has no range image (rgbd-slam needs depth and intensity images)");
+  }
+  if (!o.intensity || o.intensity->empty()) {
+    scan_error(path, entry, std::string(kScanField) + ".intensityImage",
+               "the 3D range scan has no intensity image (rgbd-slam needs depth and intensity images)");
+  }
+  const Image& im = *o.intensity;
+  if (im.pixel_type != PixelType::U8 || (im.channels != 1 && im.channels != 3)) {
+    scan_error(path, entry, std::string(kScanField) + ".intensityImage",
+               fmt::format("the intensity image has {} channels of {}-byte samples; rgbd-slam needs 8-bit "
+                           "gray or RGB",
+                           im.channels, bytes_per_sample(im.pixel_type)));
+  }
+  const PinholeCamera c = scan_camera(o);
+  if (c.width != im.width || c.height != im.height) {
+    scan_error(path, entry, std::string(kScanField) + ".cameraParamsIntensity",
+               fmt::format("the intensity image is {}x{} but its camera is {}x{}", im.width, im.height, c.width,
+                           c.height));
+  }
+}
+
+RgbdSequence read_rawlog_sequence(const std::string& path, const RgbdSequenceOptions& options) {
+  if (!options.camera.empty() || options.depth_scale) {
+    throw InvalidArgument(fmt::format("{}: a rawlog's 3D range scans carry their cameras and depth units; a "
+                                      "camera or a depth scale applies to sequence folders only",
+                                      path));
+  }
+  RgbdSequence s;
+  s.folder = path;
+  s.format = RgbdSequenceFormat::Rawlog;
+  AnyRawlogReader reader(path);
+  std::uint64_t entry = 0;
+  std::vector<bool> timed;  // per frame: the scan has a time
+  while (const auto e = reader.next()) {
+    throw_if_interrupted();
+    const auto scans = range_images_of(*e);
+    for (std::size_t k = 0; k < scans.size(); ++k) {
+      const RangeImage3D& o = *scans[k];
+      if (s.frames.empty()) {
+        check_scan(o, path, entry);
+        s.sensor_label = o.sensor_label;
+        s.camera = scan_camera(o);
+        s.depth_scale = o.depth.scale;
+        s.camera_source = fmt::format("rawlog ({} intensity camera)", o.sensor_label.empty() ? std::string("the scans'")
+                                                                                             : "'" + o.sensor_label + "'");
+      } else if (o.sensor_label != s.sensor_label) {
+        ++s.other_sensor_scans;
+        continue;
+      } else {
+        check_scan(o, path, entry);
+        if (!(scan_camera(o) == s.camera)) {
+          scan_error(path, entry, std::string(kScanField) + ".cameraParamsIntensity",
+                     "the intensity camera differs from the first scan's (one camera per sequence)");
+        }
+      }
+      RgbdSequenceFrame f;
+      timed.push_back(o.timestamp.valid());
+      if (timed.back()) f.time = o.timestamp.to_seconds();
+      f.rawlog_entry = entry;
+      f.rawlog_scan = k;
+      s.frames.push_back(f);
+    }
+    ++entry;
+  }
+  if (s.frames.empty()) {
+    throw ParseError({path, std::nullopt, std::nullopt, "observations"},
+                     fmt::format("no 3D range scan (CObservation3DRangeScan) in its {} entries: rgbd-slam needs "
+                                 "depth and intensity images",
+                                 entry));
+  }
+  const auto n_timed = static_cast<std::size_t>(std::count(timed.begin(), timed.end(), true));
+  for (std::size_t i = 0; i < s.frames.size(); ++i) {
+    if (n_timed == 0) {
+      s.frames[i].time = static_cast<double>(i);
+    } else if (!timed[i]) {
+      scan_error(path, s.frames[i].rawlog_entry, std::string(kScanField) + ".timestamp",
+                 "the scan has no time while others have one");
+    }
+    s.frames[i].depth_time = s.frames[i].time;
+  }
+  for (std::size_t i = 1; i < s.frames.size(); ++i) {
+    if (!(s.frames[i].time > s.frames[i - 1].time)) {
+      scan_error(path, s.frames[i].rawlog_entry, std::string(kScanField) + ".timestamp",
+                 fmt::format("time {:.6f} s is not after the previous scan's {:.6f} s", s.frames[i].time,
+                             s.frames[i - 1].time));
+    }
+  }
+  return s;
+}
+
 }  // namespace
 
+std::vector<std::shared_ptr<const RangeImage3D>> range_images_of(const RawlogEntry& entry) {
+  if (const auto* sf = std::get_if<std::shared_ptr<const SensoryFrame>>(&entry)) return (*sf)->find_all<RangeImage3D>();
+  if (const auto* o = std::get_if<std::shared_ptr<const Observation>>(&entry)) {
+    if (auto r = std::dynamic_pointer_cast<const RangeImage3D>(*o)) return {r};
+  }
+  return {};
+}
+
 std::string_view to_string(RgbdSequenceFormat format) {
-  return format == RgbdSequenceFormat::Tum ? "tum" : "numbered-frames";
+  switch (format) {
+    case RgbdSequenceFormat::Tum: return "tum";
+    case RgbdSequenceFormat::NumberedFrames: return "numbered-frames";
+    case RgbdSequenceFormat::Rawlog: return "rawlog";
+  }
+  return "?";
 }
 
 std::optional<NamedCamera> named_camera(std::string_view name) {
@@ -285,7 +420,10 @@ RgbdSequence read_rgbd_sequence(const std::string& folder, const RgbdSequenceOpt
                    "depth_scale must be finite and > 0, got {}", *options.depth_scale);
   }
   const fs::path dir(folder);
-  if (!fs::is_directory(dir)) throw IoError(folder, "not a folder (an RGB-D sequence is a folder)");
+  if (fs::is_regular_file(dir)) return read_rawlog_sequence(folder, options);
+  if (!fs::is_directory(dir)) {
+    throw IoError(folder, "not a folder or a rawlog (an RGB-D sequence is a folder, or a rawlog of 3D range scans)");
+  }
   RgbdSequence s;
   s.folder = folder;
   if (fs::exists(dir / "associations.txt")) {

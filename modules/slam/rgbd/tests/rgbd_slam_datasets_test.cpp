@@ -1,7 +1,13 @@
 // The RGB-D SLAM pipeline on real sequences with ground truth.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <vector>
+
+#include "rove/io/any_rawlog.h"
+#include "rove/maps/kdtree.h"
+#include "rove/poses/lie_conversion.h"
 
 #include "rove/slam/rgbd_sequence.h"
 #include "rove/slam/rgbd_slam.h"
@@ -63,6 +69,52 @@ TEST(RgbdSlamDatasets, IclNuimLivingRoomAgainstItsTruePoses) {
   EXPECT_EQ(slam.stats().lost, 3u);
   ASSERT_FALSE(r.issues.empty());
   EXPECT_EQ(r.issues[0].code, "lost-tracking");
+}
+
+// MRPT's tests_rgbd.rawlog: one CObservation3DRangeScan of an OpenNI2
+// camera (depth camera f = 572.9, intensity camera f = 521.2, 1.5 mm apart).
+TEST(RgbdSlamDatasets, MrptTestsRgbdRawlogGivesOnePoseAndTheScansCloud) {
+  const std::string path = test_data::shared_dataset("mrpt/tests_rgbd.rawlog");
+  const RgbdSequence seq = read_rgbd_sequence(path);
+  EXPECT_EQ(seq.format, RgbdSequenceFormat::Rawlog);
+  ASSERT_EQ(seq.frames.size(), 1u);
+  EXPECT_EQ(seq.sensor_label, "OPENNI2");
+  EXPECT_EQ(seq.camera.width, 640u);
+  EXPECT_NEAR(seq.camera.fx, 521.179233, 1e-6);  // the intensity camera's
+  RgbdSlam slam(seq.camera);
+  const RgbdSlamRunResult r = run_rgbd_slam(slam, seq);
+  EXPECT_EQ(r.frames, 1u);
+  EXPECT_TRUE(r.issues.empty());
+  ASSERT_EQ(slam.num_frames(), 1u);
+  EXPECT_EQ(slam.frame_status(0), RgbdFrameStatus::Keyframe);
+  EXPECT_TRUE(slam.frame_pose(0).is_approx(SE3d()));
+  EXPECT_NEAR(slam.frame_time(0), seq.frames[0].time, 1e-9);
+
+  // The map against the points MRPT stored with the scan (sensor frame),
+  // brought into the intensity camera's optical frame.
+  AnyRawlogReader reader(path);
+  const auto entry = reader.next();
+  ASSERT_TRUE(entry.has_value());
+  const auto scans = range_images_of(*entry);
+  ASSERT_EQ(scans.size(), 1u);
+  ASSERT_TRUE(scans[0]->points.has_value());
+  const SE3d T_intensity_sensor = to_se3(scans[0]->T_sensor_intensity).inverse();
+  std::vector<Eigen::Vector3f> stored;
+  for (const Eigen::Vector3f& p : scans[0]->points->p_sensor) {
+    stored.push_back((T_intensity_sensor * p.cast<double>()).cast<float>());
+  }
+  const KdTree3f tree(std::move(stored));
+  const PointCloud map = slam.map_cloud();
+  ASSERT_GT(map.size(), 10000u);
+  std::vector<float> d;
+  for (const Eigen::Vector3f& q : map.points()) d.push_back(std::sqrt(tree.nearest(q)->sq_distance));
+  std::sort(d.begin(), d.end());
+  const float median = d[d.size() / 2], p99 = d[d.size() * 99 / 100];
+  std::printf("tests_rgbd: %zu map points, %zu stored; distance to the stored points: median %.4f m, 99%% %.4f m, "
+              "max %.4f m\n",
+              map.size(), scans[0]->points->p_sensor.size(), median, p99, d.back());
+  EXPECT_LT(median, 0.005f);
+  EXPECT_LT(p99, 0.012f);
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// RGB-D sequence folders: the list of (color, depth) image pairs with their
+/// RGB-D sequences: the list of (color, depth) image pairs with their
 /// times, the camera, the depth scale and the reference trajectory when the
-/// folder has one. Three layouts are recognized:
+/// folder has one. Three folder layouts are recognized, and rawlogs:
 ///  - TUM RGB-D (Sturm et al., IROS 2012): `associations.txt` (`t_rgb
 ///    rgb/… t_depth depth/…` per line), else `rgb.txt` and `depth.txt`
 ///    associated by nearest time (one-to-one, closest pairs first, as TUM's
@@ -12,18 +12,29 @@
 ///    qw` per frame, T_world_camera): the reference; depth 5000 per meter;
 ///  - numbered frames with a camera file: the same folders, the camera from
 ///    a camera file in the folder (`camera.yaml`, `camera.txt`,
-///    `parameters.txt`, `camera.ini`) or given.
-/// Numbered frames get their number as time (seconds). Only file names are
-/// listed here; images are read by the pipeline.
+///    `parameters.txt`, `camera.ini`) or given;
+///  - a rawlog (MRPT's or rove's, any AnyRawlogReader reads) of 3D range
+///    scans with intensity images (MRPT's CObservation3DRangeScan,
+///    RangeImage3D), bare or in sensory frames: the scans of the first
+///    scan's sensor label are the frames, the intensity camera is the
+///    camera (rove/vision/range_image_frame.h registers the depth to it).
+/// Numbered frames get their number as time (seconds); rawlog frames their
+/// timestamps (Unix seconds), or their number when no scan has one. Only
+/// file names (and rawlog entry numbers) are listed here; images are read
+/// by the pipeline.
 
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "rove/io/rawlog_reader.h"
 #include "rove/io/trajectory_files.h"
 #include "rove/obs/pinhole_camera.h"
+#include "rove/obs/range_image_3d.h"
 
 namespace rove {
 
@@ -31,9 +42,10 @@ namespace rove {
 enum class RgbdSequenceFormat {
   Tum,             ///< TUM RGB-D benchmark folder
   NumberedFrames,  ///< color/ and depth/ with numbered images
+  Rawlog,          ///< a rawlog of 3D range scans with intensity images
 };
 
-/// "tum" or "numbered-frames".
+/// "tum", "numbered-frames" or "rawlog".
 std::string_view to_string(RgbdSequenceFormat format);
 
 /// One color image and its registered depth image.
@@ -42,7 +54,15 @@ struct RgbdSequenceFrame {
   std::string color_path;   ///< color image file
   std::string depth_path;   ///< depth image file
   double depth_time = 0.0;  ///< seconds (the depth image's; equal to time for numbered frames)
+  /// Rawlog frames (paths empty): the entry holding the scan (0-based, in
+  /// file order) and the scan's index among the entry's range_images_of().
+  std::uint64_t rawlog_entry = 0;
+  std::size_t rawlog_scan = 0;
 };
+
+/// The 3D range scans (RangeImage3D) of a rawlog entry, in order: a bare
+/// one, or those of a sensory frame; none in an action collection.
+std::vector<std::shared_ptr<const RangeImage3D>> range_images_of(const RawlogEntry& entry);
 
 /// The intrinsics and depth scale of a named camera: "tum-fr1", "tum-fr2",
 /// "tum-fr3" (TUM's published calibrations of the RGB cameras; depth 5000
@@ -73,21 +93,31 @@ struct RgbdSequenceOptions {
 
 /// A sequence folder, listed.
 struct RgbdSequence {
-  std::string folder;                 ///< as given
+  std::string folder;                 ///< as given (the rawlog file for Rawlog)
   RgbdSequenceFormat format = RgbdSequenceFormat::Tum;
   std::vector<RgbdSequenceFrame> frames;  ///< in time order
   PinholeCamera camera;               ///< intrinsics of the color image
   double depth_scale = 5000.0;        ///< depth image units per meter
   std::string camera_source;          ///< where the camera came from (file or name)
   std::size_t unassociated_color = 0; ///< TUM: color images without a depth image in time
+  /// Rawlog: the frames' sensor label, and the 3D range scans of other
+  /// labels, left out.
+  std::string sensor_label;
+  std::size_t other_sensor_scans = 0;
   /// The reference trajectory (T_world_camera at the frames' clock) and its
   /// file, when the folder has one (groundtruth.txt, pose.txt).
   std::vector<StampedPose3> reference;
   std::string reference_path;
 };
 
-/// Lists a sequence folder (see the file comment). Errors: IoError for a
-/// folder that does not exist or a list file that cannot be read;
+/// Lists a sequence folder or rawlog (see the file comment). Errors:
+/// IoError for a path that does not exist or a list file that cannot be
+/// read; for a rawlog, ParseError naming the file (and the entry) for a log
+/// without 3D range scans, a scan without a depth or an intensity image, an
+/// intensity image that is not 8-bit gray or RGB, a scan whose intensity
+/// camera or image size differs from the first's, times that do not
+/// increase, and the reader's errors; InvalidArgument when options.camera or
+/// options.depth_scale is given for a rawlog (its scans carry both);
 /// ParseError naming the file and line for a malformed list line, a camera
 /// file that does not parse, a pose.txt line without 7 numbers; ParseError
 /// for a folder that is none of the layouts, a color image without a depth
@@ -95,6 +125,6 @@ struct RgbdSequence {
 /// without a camera (the message says how to give one), an unknown camera
 /// name. A listed image that does not exist is an IoError naming it.
 /// Precondition (InvalidArgument): options valid.
-RgbdSequence read_rgbd_sequence(const std::string& folder, const RgbdSequenceOptions& options = {});
+RgbdSequence read_rgbd_sequence(const std::string& path, const RgbdSequenceOptions& options = {});
 
 }  // namespace rove

@@ -1,7 +1,9 @@
 #pragma once
 /// \file
 /// Runs the RGB-D SLAM pipeline (rove/slam/rgbd_slam.h) over a sequence
-/// folder (rove/slam/rgbd_sequence.h): reads each frame's images, processes
+/// folder or rawlog (rove/slam/rgbd_sequence.h): reads each frame's images
+/// (a rawlog's scans in one pass, registered by
+/// rove/vision/range_image_frame.h), processes
 /// them, finishes the pose graph, and evaluates the trajectory against the
 /// folder's reference (ATE, Sturm et al. IROS 2012) when it has one.
 
@@ -52,7 +54,8 @@ struct RgbdSlamRunResult {
 
 /// Processes the frames of `sequence` with `slam` (whose camera should be
 /// the sequence's). Image files that cannot be read are errors naming the
-/// file (rove/vision/rgbd_frame.h). Issues: frames lost or without features,
+/// file (rove/vision/rgbd_frame.h), and so are rawlog entries (naming the
+/// file and the entry). Issues: frames lost or without features,
 /// a final optimization that did not converge, color images left without
 /// depth by the association. Throws rove::Interrupted on Ctrl-C (the
 /// command line's handler).
