@@ -72,5 +72,8 @@ for r in docs["serial"]["rows"]:
     print(f"| {name} | {r['params']['ICP.thresholdDist']} | {r['status']} | {r['figures']['icp_accepted']} of "
           f"{r['figures']['icp_runs']} | {r['figures']['keyframes']} | {rel} | {r['wall_seconds']:.1f} |")
 for m, d in docs.items():
-    print(f"{m}: batch wall {d['wall_seconds']:.1f} s, {d['ok']} ok, {d['with_issues']} with issues, {d['failed']} failed")
+    cpu = sum(r.get("cpu_seconds") or 0 for r in d["rows"])
+    longest = max(r["wall_seconds"] for r in d["rows"])
+    print(f"{m}: batch wall {d['wall_seconds']:.1f} s (last round), runs' CPU {cpu:.1f} s, longest run {longest:.1f} s; "
+          f"{d['ok']} ok, {d['with_issues']} with issues, {d['failed']} failed")
 PY

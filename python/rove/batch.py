@@ -31,6 +31,7 @@ import math
 import os
 import pathlib
 import re
+import resource
 import shlex
 import shutil
 import signal
@@ -245,7 +246,8 @@ class Eval:
 class Run(dict):
     """One row of the table: ``name``, ``index``, ``input``, ``params``,
     ``status`` (``ok``, ``issues`` for exit status 3, ``failed``), ``exit_status``,
-    ``attempts``, ``wall_seconds``, ``worker``, ``folder``, ``figures`` (from
+    ``attempts``, ``wall_seconds``, ``cpu_seconds`` (the job's processes and,
+    for a Python job, the calling thread), ``worker``, ``folder``, ``figures`` (from
     summary.json, flattened with dots), ``eval`` (``rove eval``'s figures),
     ``issues`` (codes) and ``error``. A dict, so it pickles and dumps as JSON."""
 
@@ -594,6 +596,15 @@ def _call_library(task: Mapping[str, Any], folder: pathlib.Path, record: dict) -
     record["status"] = "issues" if record["issues"] else "ok"
 
 
+def _cpu_seconds() -> float:
+    """CPU time of the finished child processes of this process and of the
+    calling thread. A run's share is exact when its worker runs one task at
+    a time (one thread per worker, as rove.batch's local cluster does)."""
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    thread = resource.getrusage(getattr(resource, "RUSAGE_THREAD", resource.RUSAGE_SELF))
+    return children.ru_utime + children.ru_stime + thread.ru_utime + thread.ru_stime
+
+
 def execute(task: Mapping[str, Any]) -> Run:
     """Runs one task of plan() in its folder (what each Dask task calls).
     Returns the run's row; raises RunFailed when the job failed, after
@@ -605,10 +616,10 @@ def execute(task: Mapping[str, Any]) -> Run:
         shutil.rmtree(folder)
     folder.mkdir()
     record = Run(name=task["name"], index=task["index"], input=task["input"], params=dict(task["params"]),
-                 status="failed", exit_status=None, attempts=attempt, wall_seconds=None,
+                 status="failed", exit_status=None, attempts=attempt, wall_seconds=None, cpu_seconds=None,
                  worker=f"{socket.gethostname()}:{os.getpid()}", folder=str(folder), figures={},
                  eval={}, issues=[], error="")
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), _cpu_seconds()
     try:
         overrides = {n: v for n, v in task["params"].items() if "." in n}
         if task["kind"] == "command":
@@ -643,13 +654,15 @@ def execute(task: Mapping[str, Any]) -> Run:
         raise
     finally:
         record["wall_seconds"] = time.perf_counter() - start
+        record["cpu_seconds"] = _cpu_seconds() - cpu_start
         _write_atomic(folder / "run.json", json.dumps(record, indent=2, default=str) + "\n")
     return record
 
 
 # ------------------------------------------------------------- the table
 
-_FIXED = ["index", "name", "input", "status", "exit_status", "attempts", "wall_seconds", "worker", "error"]
+_FIXED = ["index", "name", "input", "status", "exit_status", "attempts", "wall_seconds", "cpu_seconds",
+          "worker", "error"]
 
 
 def _columns(runs: Sequence[Run]) -> tuple[list[str], list[str], list[str]]:
@@ -725,7 +738,8 @@ def _failed_row(task: Mapping[str, Any], error: str) -> Run:
     tries = folder.with_name(f".{folder.name}.attempts")
     attempts = sum(1 for _ in open(tries)) if tries.is_file() else 0
     return Run(name=task["name"], index=task["index"], input=task["input"], params=dict(task["params"]),
-               status="failed", exit_status=None, attempts=attempts, wall_seconds=None, worker="",
+               status="failed", exit_status=None, attempts=attempts, wall_seconds=None, cpu_seconds=None,
+               worker="",
                folder=str(folder), figures={}, eval={}, issues=[], error=error)
 
 

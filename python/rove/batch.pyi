@@ -21,6 +21,7 @@ class Run(dict[str, Any]):
     exit_status: Optional[int]
     attempts: int
     wall_seconds: Optional[float]
+    cpu_seconds: Optional[float]
     worker: str
     folder: str
     figures: dict[str, Any]

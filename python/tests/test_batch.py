@@ -131,6 +131,8 @@ def test_table_holds_each_runs_parameters_and_figures(tmp_path, cli, cluster):
         assert float(row["final_pose.x"]) == summary["final_pose"]["x"]
         assert int(row["icp_accepted"]) == summary["icp_accepted"]
         assert float(row["wall_seconds"]) > 0
+        # The job's CPU time (a child process) is counted, and within its wall time.
+        assert 0 < float(row["cpu_seconds"]) <= float(row["wall_seconds"]) * 1.05
         # The run's config is the original with its value set, and the run used it.
         config = (folder / "config.ini").read_text()
         assert config.startswith(ICP_SLAM_INI.read_text().rstrip("\n"))
