@@ -647,11 +647,14 @@ def execute(task: Mapping[str, Any]) -> Run:
             _call_library(task, folder, record)
             record["exit_status"] = _EXIT_ISSUES if record["status"] == "issues" else _EXIT_OK
         _evaluate(task, folder, record)
-    except RunFailed as e:
-        record["status"], record["error"] = "failed", str(e)
+    except Exception as e:  # the job's failure, or one reading what it wrote (a full disk, ...)
+        failure = e if isinstance(e, RunFailed) else RunFailed(f"{type(e).__name__}: {e}")
+        record["status"], record["error"] = "failed", str(failure)
         if record["exit_status"] in (None, _EXIT_OK, _EXIT_ISSUES):
             record["exit_status"] = 1
-        raise
+        if failure is e:
+            raise
+        raise failure from None
     finally:
         record["wall_seconds"] = time.perf_counter() - start
         record["cpu_seconds"] = _cpu_seconds() - cpu_start

@@ -180,6 +180,18 @@ def test_a_python_function_as_the_job(tmp_path, cluster):
     assert all(r.status == "ok" for r in result.runs)
     assert (pathlib.Path(result.runs[3].folder) / "note.txt").read_text() == str(sizes[3])
 
+    def picky(path):
+        if str(path).endswith(".ini"):
+            raise ValueError(f"{path}: not a log")
+        return {"ok": True}
+
+    result = batch.run(picky, [TELECOM, ICP_SLAM_INI], None, out=tmp_path / "picky", client=cluster, retries=2)
+    good, bad = result.runs
+    assert good.status == "ok" and good.attempts == 1
+    assert bad.status == "failed" and bad.attempts == 3 and bad.exit_status == 1
+    assert bad.error == f"picky: ValueError: {ICP_SLAM_INI}: not a log"
+    assert result.exit_status == 1
+
 
 def test_eval_ate_against_a_reference(tmp_path, cli):
     ref = batch.run(COMMAND, [TELECOM], {"max-steps": [224]}, config=ICP_SLAM_INI,
