@@ -91,30 +91,54 @@ Fields parse_fields(std::span<const std::uint8_t> h) {
   return f;
 }
 
-// Decompresses as much of `in` as it can into `out`; returns the bytes
-// produced and, through `error`, what went wrong (empty if it ended well).
-std::size_t bunzip2(std::span<const std::uint8_t> in, std::span<std::uint8_t> out,
-                    std::string& error) {
+// Output of a decompression: grown as data arrives (up to the size the
+// chunk declares), so a chunk that claims gigabytes costs only what it
+// really holds.
+class Growing {
+ public:
+  Growing(std::vector<std::uint8_t>& out, std::size_t declared) : out_(out), declared_(declared) {
+    out_.resize(std::min<std::size_t>(declared_, kStep));
+  }
+  // Room after `produced` bytes; false when the declared size is reached.
+  bool grow(std::size_t produced) {
+    if (produced < out_.size()) return true;
+    if (out_.size() >= declared_) return false;
+    out_.resize(std::min(declared_, out_.size() + std::max(kStep, out_.size())));
+    return true;
+  }
+  std::uint8_t* at(std::size_t produced) { return out_.data() + produced; }
+  std::size_t room(std::size_t produced) const { return out_.size() - produced; }
+
+ private:
+  static constexpr std::size_t kStep = std::size_t{1} << 20;
+  std::vector<std::uint8_t>& out_;
+  std::size_t declared_;
+};
+
+// Decompresses as much of `in` as it can into `out` (at most `declared`
+// bytes); returns the bytes produced and, through `error`, what went wrong
+// (empty if the stream ended well).
+std::size_t bunzip2(std::span<const std::uint8_t> in, std::vector<std::uint8_t>& out,
+                    std::size_t declared, std::string& error) {
   bz_stream s{};
   if (BZ2_bzDecompressInit(&s, 0, 0) != BZ_OK) {
     error = "bzip2: cannot initialize";
     return 0;
   }
+  Growing buf(out, declared);
+  std::size_t produced = 0;
   s.next_in = const_cast<char*>(reinterpret_cast<const char*>(in.data()));
   s.avail_in = static_cast<unsigned>(in.size());
-  s.next_out = reinterpret_cast<char*>(out.data());
-  s.avail_out = static_cast<unsigned>(out.size());
   int ret = BZ_OK;
-  while (true) {
+  while (buf.grow(produced)) {
+    s.next_out = reinterpret_cast<char*>(buf.at(produced));
+    s.avail_out = static_cast<unsigned>(buf.room(produced));
     const unsigned before_in = s.avail_in, before_out = s.avail_out;
     ret = BZ2_bzDecompress(&s);
+    produced += before_out - s.avail_out;
     if (ret != BZ_OK) break;
-    if (s.avail_in == before_in && s.avail_out == before_out) break;
-    if (s.avail_out == 0 || s.avail_in == 0) {
-      if (s.avail_in == 0) break;
-    }
+    if (s.avail_in == before_in && s.avail_out == before_out) break;  // needs more input
   }
-  const std::size_t produced = out.size() - s.avail_out;
   if (ret != BZ_STREAM_END) {
     error = ret == BZ_OK ? "bzip2 data ends before its end-of-stream marker"
                          : fmt::format("bzip2 data is corrupt (error {})", ret);
@@ -123,8 +147,17 @@ std::size_t bunzip2(std::span<const std::uint8_t> in, std::span<std::uint8_t> ou
   return produced;
 }
 
-std::size_t unlz4(std::span<const std::uint8_t> in, std::span<std::uint8_t> out,
-                  std::string& error) {
+// lz4 expands data at most 255-fold; roslz4 needs the whole output buffer
+// up front, so a chunk that declares more than that is refused before it
+// is allocated.
+std::size_t unlz4(std::span<const std::uint8_t> in, std::vector<std::uint8_t>& out,
+                  std::size_t declared, std::string& error) {
+  if (declared > 255 * in.size() + 65536) {
+    error = fmt::format("declares {} bytes from {} compressed bytes, more than lz4 can expand",
+                        declared, in.size());
+    return 0;
+  }
+  out.resize(declared);
   roslz4_stream s{};
   s.input_next = const_cast<char*>(reinterpret_cast<const char*>(in.data()));
   s.input_left = static_cast<int>(in.size());
@@ -139,8 +172,7 @@ std::size_t unlz4(std::span<const std::uint8_t> in, std::span<std::uint8_t> out,
     const int before_in = s.input_left, before_out = s.output_left;
     ret = roslz4_decompress(&s);
     if (ret != ROSLZ4_OK) break;
-    if (s.input_left == before_in && s.output_left == before_out) break;
-    if (s.input_left == 0) break;
+    if (s.input_left == before_in && s.output_left == before_out) break;  // needs more input
   }
   const std::size_t produced = out.size() - static_cast<std::size_t>(s.output_left);
   if (ret != ROSLZ4_STREAM_END) {
@@ -301,19 +333,18 @@ bool BagFile::read_record() {
       check_memory_budget(*size, "a ROS bag chunk");
       std::vector<std::uint8_t> raw;
       read_data(raw);
-      chunk_.resize(*size);
       std::string error;
       std::size_t produced = 0;
       if (compression == "none") {
-        produced = std::min<std::size_t>(raw.size(), chunk_.size());
-        std::memcpy(chunk_.data(), raw.data(), produced);
-        if (!truncated && raw.size() != chunk_.size()) {
-          error = fmt::format("holds {} bytes, its header says {}", raw.size(), chunk_.size());
+        produced = std::min<std::size_t>(raw.size(), *size);
+        chunk_.assign(raw.begin(), raw.begin() + static_cast<std::ptrdiff_t>(produced));
+        if (!truncated && raw.size() != *size) {
+          error = fmt::format("holds {} bytes, its header says {}", raw.size(), *size);
         }
       } else if (compression == "bz2") {
-        produced = bunzip2(raw, chunk_, error);
+        produced = bunzip2(raw, chunk_, *size, error);
       } else {
-        produced = unlz4(raw, chunk_, error);
+        produced = unlz4(raw, chunk_, *size, error);
       }
       parse_chunk_records(produced, at);
       if (truncated) {

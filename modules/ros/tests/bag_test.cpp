@@ -699,3 +699,38 @@ TEST(BagTelecom, RawlogThroughABagMatchesTheRawlog) {
   EXPECT_EQ(scans, 225u);
   EXPECT_EQ(moves, 224u);
 }
+
+// A message larger than a chunk's usual 768 KiB: the chunk's output buffer
+// grows past its first MiB (bz2) or is allocated whole (lz4).
+TEST(BagReader, LargeImagesInEveryCompression) {
+  TempDir dir;
+  for (auto c : {ChunkCompression::None, ChunkCompression::Bz2, ChunkCompression::Lz4}) {
+    const std::string path = dir / "big.bag";
+    ImageMsg im;
+    im.header = header(100, 0, "cam_optical");
+    im.width = 1200;
+    im.height = 1000;
+    im.encoding = "rgb8";
+    im.step = 3600;
+    im.data.resize(3'600'000);
+    std::uint32_t lcg = 7;
+    for (auto& b : im.data) {
+      lcg = lcg * 1664525u + 1013904223u;
+      b = static_cast<std::uint8_t>(lcg >> 24);
+    }
+    {
+      RosbagWriter bag(path, c);
+      bag.write("/cam/image_raw", 100, 0, im);
+      bag.close();
+    }
+    BagReadOptions o;
+    o.layout = RawlogLayout::Observations;
+    BagReader r(path, o);
+    const auto entries = read_all(r);
+    ASSERT_EQ(entries.size(), 1u) << ::testing::PrintToString(r.skipped());
+    auto img = bare<ImageObservation>(entries[0]);
+    ASSERT_TRUE(img);
+    EXPECT_EQ(img->image.data, im.data);
+    EXPECT_EQ(img->sensor_label, "cam");
+  }
+}
