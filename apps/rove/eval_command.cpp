@@ -155,6 +155,15 @@ void run_ate(const EvalArgs& a) {
     issues.push_back({"degenerate-alignment",
                       "the associated positions lie on a line: the rotation about it is not "
                       "determined by the alignment"});
+  if (o.alignment != TrajectoryAlignment::None && r.position_spread < 10.0 * r.translation.rmse) {
+    issues.push_back({"weak-alignment-rotation",
+                      fmt::format("the associated positions spread only {:.3g} m (RMS about their "
+                                  "centroid), under 10 times the position RMSE ({:.3g} m): the "
+                                  "alignment's rotation, taken from the positions, is weakly "
+                                  "determined, and the rotation errors mostly show it (rove eval "
+                                  "rpe measures rotation without an alignment)",
+                                  r.position_spread, r.translation.rmse)});
+  }
   if (!a.plot.empty()) {
     std::vector<Eigen::Vector3d> ref_xy, est_xy;
     for (const auto& [i, e] : r.association.pairs) ref_xy.push_back(ref.poses[i].pose.translation());
@@ -171,6 +180,7 @@ void run_ate(const EvalArgs& a) {
     j.key("translation").begin_array().value(t.x()).value(t.y()).value(t.z()).end_array();
     const Eigen::Quaterniond& q = r.transform.T_reference_estimate.quaternion();
     j.key("quaternion_xyzw").begin_array().value(q.x()).value(q.y()).value(q.z()).value(q.w()).end_array();
+    j.key("position_spread_m").value(r.position_spread);
     j.end_object();
     write_stats(j, "translation_m", r.translation);
     write_stats(j, "rotation_rad", r.rotation);
@@ -184,8 +194,9 @@ void run_ate(const EvalArgs& a) {
                est.format, est.poses.size(), printable(a.first), ref.format, ref.poses.size());
     fmt::print("pairs          {} (time tolerance {} s, offset {} s)\n",
                r.association.pairs.size(), a.max_dt, a.offset);
-    fmt::print("alignment      {}: t = ({:.6g}, {:.6g}, {:.6g}) m, scale {:.6g}\n",
-               to_string(o.alignment), t.x(), t.y(), t.z(), r.transform.scale);
+    fmt::print("alignment      {}: t = ({:.6g}, {:.6g}, {:.6g}) m, scale {:.6g}; positions spread "
+               "{:.4g} m\n",
+               to_string(o.alignment), t.x(), t.y(), t.z(), r.transform.scale, r.position_spread);
     print_stats("translation", r.translation, 1.0, "m");
     print_stats("rotation", r.rotation, kDeg, "deg");
     if (!a.plot.empty()) fmt::print("plot           {}\n", printable(a.plot));

@@ -191,6 +191,12 @@ AteResult absolute_trajectory_error(const std::vector<StampedPose3>& reference,
     est_p.push_back(estimate[e].pose.translation());
   }
   out.transform = align_trajectory(ref_p, est_p, options.alignment);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& p : ref_p) centroid += p;
+  centroid /= static_cast<double>(ref_p.size());
+  double spread2 = 0.0;
+  for (const auto& p : ref_p) spread2 += (p - centroid).squaredNorm();
+  out.position_spread = std::sqrt(spread2 / static_cast<double>(ref_p.size()));
   for (const auto& [r, e] : pairs) {
     const SE3d aligned = apply(out.transform, estimate[e].pose);
     const SE3d& truth = reference[r].pose;

@@ -109,6 +109,31 @@ TEST(TrajectoryEval, AteByHandWithoutAndWithAlignment) {
   EXPECT_NEAR(r.rotation.mean, 3 * kDeg / 5, 1e-12);
 }
 
+TEST(TrajectoryEval, AteReportsHowFarThePositionsSpread) {
+  // Positions at ±1 m on x and ±2 m on y: RMS distance from the centroid
+  // sqrt((1 + 4 + 1 + 4) / 4) = sqrt(2.5).
+  std::vector<StampedPose3> ref, est;
+  const double xy[4][2] = {{1, 0}, {-1, 0}, {0, 2}, {0, -2}};
+  for (int k = 0; k < 4; ++k) {
+    ref.push_back({double(k), pose_xy_yaw(5 + xy[k][0], 7 + xy[k][1], 0.3 * k)});
+    est.push_back({double(k), pose_xy_yaw(xy[k][0], xy[k][1], 0.3 * k)});
+  }
+  const AteResult a = absolute_trajectory_error(ref, est, aligned_by(TrajectoryAlignment::SE3));
+  EXPECT_NEAR(a.position_spread, std::sqrt(2.5), 1e-12);
+  // A camera turning in place (positions within a millimetre, the estimate's
+  // orientations 5 degrees off): the alignment cannot see the rotation from
+  // the positions, and the spread says so.
+  ref.clear();
+  est.clear();
+  for (int k = 0; k < 10; ++k) {
+    ref.push_back({double(k), pose_xy_yaw(1e-4 * (k % 3), 1e-4 * (k % 2), 0.2 * k)});
+    est.push_back({double(k), pose_xy_yaw(1e-4 * (k % 3), 1e-4 * (k % 2), 0.2 * k + 5 * kDeg)});
+  }
+  const AteResult b = absolute_trajectory_error(ref, est, aligned_by(TrajectoryAlignment::SE3));
+  EXPECT_LT(b.position_spread, 1e-3);
+  EXPECT_NEAR(b.rotation.mean, 5 * kDeg, 1e-6);
+}
+
 TEST(TrajectoryEval, AlignedAteIsInvariantToTheEstimatesFrame) {
   const auto ref = wavy_path(80);
   std::mt19937_64 rng(7);

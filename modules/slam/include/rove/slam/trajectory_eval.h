@@ -116,6 +116,12 @@ struct AteResult {
   std::vector<double> translation_errors;  ///< per pair, meters
   std::vector<double> rotation_errors;     ///< per pair, radians
   std::vector<SE3d> aligned_estimate;      ///< the estimate's paired poses after alignment
+  /// RMS distance of the paired reference positions from their centroid,
+  /// meters. The alignment takes its rotation from the positions alone (as
+  /// evo does): when they spread little more than the position errors (a
+  /// camera turning in place), that rotation is weakly determined and the
+  /// rotation errors mostly show it.
+  double position_spread = 0.0;
 };
 
 /// ATE of `estimate` against `reference`. Throws InvalidArgument if no pose
