@@ -314,3 +314,47 @@ def test_jobs_do_not_inherit_the_environment_dask_sets_for_its_workers(tmp_path,
                (pathlib.Path(result.runs[0].folder) / "env.txt").read_text().splitlines() if "=" in line)
     assert "MALLOC_TRIM_THRESHOLD_" not in env and "OMP_NUM_THREADS" not in env
     assert env.get("PATH") == os.environ.get("PATH")
+
+
+def test_a_cluster_started_with_dasks_command_line(tmp_path, cli):
+    """docs/batch.md's real-cluster recipe on one machine: `dask scheduler`,
+    `dask worker ... --nthreads 1`, and `rove batch --scheduler ADDR`."""
+    import shutil
+    import sys
+    import time
+    dask_cli = shutil.which("dask")
+    if dask_cli is None:
+        pytest.skip("Dask's command line is not installed (python3-distributed)")
+    info = tmp_path / "scheduler.json"
+    procs = [subprocess.Popen([sys.executable, dask_cli, "scheduler", "--port", "0", "--no-dashboard",
+                               "--scheduler-file", info], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        procs.append(subprocess.Popen([sys.executable, dask_cli, "worker", "--scheduler-file", info,
+                                       "--nworkers", "2", "--nthreads", "1", "--no-dashboard"],
+                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        deadline = time.monotonic() + 60
+        while not info.is_file() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        address = json.loads(info.read_text())["address"]
+        args = [COMMAND, "-c", ICP_SLAM_INI, "-i", TELECOM, "-p", "ICP.thresholdDist=0.5,1.0",
+                "-p", "max-steps=80"]
+        proc = subprocess.run([cli, "batch", *args, "--scheduler", address, "-o", tmp_path / "cluster"],
+                              capture_output=True, text=True, timeout=300)
+        assert proc.returncode == 0, proc.stderr
+        ref = subprocess.run([cli, "batch", *args, "--serial", "-o", tmp_path / "serial"],
+                             capture_output=True, text=True, timeout=300)
+        assert ref.returncode == 0, ref.stderr
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+        for p in reversed(procs):
+            try:
+                p.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                p.kill()
+    cluster_doc = json.loads((tmp_path / "cluster" / "runs.json").read_text())
+    serial_doc = json.loads((tmp_path / "serial" / "runs.json").read_text())
+    assert cluster_doc["scheduler"] == address and cluster_doc["ok"] == 2
+    for a, b in zip(cluster_doc["rows"], serial_doc["rows"]):
+        assert deterministic(a["figures"]) == deterministic(b["figures"]) and a["figures"]["steps"] == 80
+        assert int(a["worker"].split(":")[1]) not in (os.getpid(), procs[0].pid)
