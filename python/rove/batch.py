@@ -485,18 +485,35 @@ def _run_process(argv: list[str], folder: pathlib.Path, timeout: Optional[float]
     env = _job_environment()
     out_path, err_path = folder / f"{log_name}.stdout.txt", folder / f"{log_name}.stderr.txt"
     with open(out_path, "wb") as out, open(err_path, "wb") as err:
+        # Its own process group (in this session), so that a timeout or
+        # Ctrl-C ends the job's own children too.
         try:
-            proc = subprocess.run(argv, stdout=out, stderr=err, stdin=subprocess.DEVNULL, env=env,
-                                  timeout=timeout, preexec_fn=_die_with_parent)
-            code = proc.returncode
-        except subprocess.TimeoutExpired:
-            code = None
+            proc = subprocess.Popen(argv, stdout=out, stderr=err, stdin=subprocess.DEVNULL, env=env,
+                                    preexec_fn=_die_with_parent, process_group=0)
         except OSError as e:
             raise RunFailed(f"cannot start {argv[0]}: {e.strerror}") from None
+        try:
+            code = proc.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            code = None
+        except BaseException:
+            _kill_group(proc)
+            raise
+        if code is None:
+            _kill_group(proc)
     stderr = err_path.read_text(errors="replace")
     if code is None:
-        raise RunFailed(f"{argv[1] if len(argv) > 1 else argv[0]}: stopped after the timeout of {timeout} s")
+        what = " ".join([os.path.basename(argv[0])] + argv[1:2])
+        raise RunFailed(f"{what}: stopped after the timeout of {timeout} s")
     return code, stderr
+
+
+def _kill_group(proc: subprocess.Popen) -> None:
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except OSError:
+        pass
+    proc.wait()
 
 
 def _failure_message(what: str, code: int, stderr: str) -> str:
@@ -828,18 +845,22 @@ def run(job: Union[str, Callable], inputs: Any = None, params: Any = None, *,
         if on_result is not None:
             on_result(row)
 
-    if serial:
-        for task in tasks:
-            for attempt in range(retries + 1):
-                try:
-                    row = execute(task)
-                    break
-                except RunFailed as e:
-                    if attempt == retries:
-                        row = _failed_row(task, str(e))
-            done(row)
-    else:
-        _run_dask(tasks, scheduler, client, workers, retries, done)
+    try:
+        if serial:
+            for task in tasks:
+                for attempt in range(retries + 1):
+                    try:
+                        row = execute(task)
+                        break
+                    except RunFailed as e:
+                        if attempt == retries:
+                            row = _failed_row(task, str(e))
+                done(row)
+        else:
+            _run_dask(tasks, scheduler, client, workers, retries, done)
+    except KeyboardInterrupt:  # the table of the runs that finished, even if none did
+        write_table(list(rows.values()), out_dir, time.perf_counter() - start, header)
+        raise
     for stale in (out_dir / "runs").glob(".*.attempts"):
         stale.unlink()
     wall = time.perf_counter() - start

@@ -358,3 +358,35 @@ def test_a_cluster_started_with_dasks_command_line(tmp_path, cli):
     for a, b in zip(cluster_doc["rows"], serial_doc["rows"]):
         assert deterministic(a["figures"]) == deterministic(b["figures"]) and a["figures"]["steps"] == 80
         assert int(a["worker"].split(":")[1]) not in (os.getpid(), procs[0].pid)
+
+
+def test_ctrl_c_stops_with_the_table_of_finished_runs(tmp_path, cli):
+    import time
+    out = tmp_path / "out"
+    proc = subprocess.Popen([cli, "batch", "-p", "t=0,60", "--serial", "--rove", "/bin/sh", "-o", out,
+                             "--", "-c 'sleep {t}; echo done > {out}/x.txt'"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and not (out / "runs.csv").is_file():
+        time.sleep(0.05)
+    time.sleep(0.5)  # the second run is sleeping
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=30)
+    assert proc.returncode == 130, stderr
+    assert "stopped (Ctrl-C)" in stderr and "[1/2] 0000-t=0: ok" in stdout
+    rows = read_csv(out / "runs.csv")
+    assert [(r["name"], r["status"]) for r in rows] == [("0000-t=0", "ok")]
+    # The job's own child (sleep) was ended with it.
+    assert subprocess.run(["pgrep", "-f", "^sleep 60$"], capture_output=True).returncode == 1
+    assert not (out / "runs" / "0001-t=60" / "run.json").exists() or \
+        json.loads((out / "runs" / "0001-t=60" / "run.json").read_text())["status"] == "failed"
+
+
+def test_timeout_fails_the_run(tmp_path):
+    result = batch.run("-c 'sleep {t} && touch {out}/done'", None, {"t": [0, 30]}, out=tmp_path,
+                       serial=True, retries=0, timeout=1.0, rove="/bin/sh")
+    fast, slow = result.runs
+    assert fast.status == "ok" and (pathlib.Path(fast.folder) / "done").is_file()
+    assert slow.status == "failed" and slow.error == "sh -c: stopped after the timeout of 1.0 s"
+    assert slow.wall_seconds < 10 and not (pathlib.Path(slow.folder) / "done").exists()
+    assert subprocess.run(["pgrep", "-f", "^sleep 30$"], capture_output=True).returncode == 1
