@@ -144,6 +144,7 @@ std::string layer_extras(const Layer& l, std::size_t index) {
   j.key("permutation_step").value(std::uint64_t{l.permutation_step});
   j.key("color").begin_array().value(l.color.r).value(l.color.g).value(l.color.b).value(l.color.a).end_array();
   if (!l.text.empty()) j.key("text").value(l.text);
+  if (!l.shown) j.key("shown").value(false);
   if (l.grid) {
     j.key("grid").begin_object();
     j.key("x_min").value(l.grid->x_min).key("y_min").value(l.grid->y_min).key("resolution").value(l.grid->resolution);

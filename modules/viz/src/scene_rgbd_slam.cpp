@@ -1,5 +1,5 @@
 // The output folder of rove rgbd-slam: the coloured map (map.ply), the
-// camera trajectory (trajectory.tum), the keyframes with their frames
+// occupancy octree (map.bt, its occupied voxels), the camera trajectory (trajectory.tum), the keyframes with their frames
 // (keyframes.tum), the pose graph with its loop closures (graph.g2o) and
 // the loop-closure attempts (loops.csv). Its world frame is the first
 // keyframe's optical frame (x right, y down, z forward): the scene is
@@ -122,6 +122,10 @@ std::string add_rgbd_slam_folder(Scene& scene, const std::string& path, const Sc
   if (scene.layers.empty()) scene.up = SceneUp::MinusY;
   std::vector<std::string> parts;
   if (exists("map.ply")) parts.push_back("map " + add_cloud_file(scene, (dir / "map.ply").string(), false, o, report));
+  if (exists("map.bt")) {  // hidden at first: its voxels would cover the coloured cloud
+    parts.push_back("octree " + add_octree_file(scene, (dir / "map.bt").string()) + " (hidden at first)");
+    scene.layers.back().shown = false;
+  }
   if (exists("graph.g2o")) parts.push_back("graph " + add_graph_file(scene, (dir / "graph.g2o").string()));
 
   TrajectoryLayerOptions to;

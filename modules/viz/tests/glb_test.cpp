@@ -176,5 +176,17 @@ TEST(Glb, InvalidScenesAreRefused) {
   EXPECT_THROW(write_glb_to_memory(s), InvalidArgument);
 }
 
+TEST(Glb, ALayerThatStartsHiddenSaysSoAndOnlyIt) {
+  Scene s = two_layer_scene();
+  s.layers[0].shown = false;
+  const GlbContents g = parse_glb(write_glb_to_memory(s), "mem");
+  const auto& nodes = g.json["nodes"].as_array();
+  ASSERT_EQ(nodes.size(), 4u);
+  ASSERT_TRUE(nodes[1]["extras"]["rove"].contains("shown"));
+  EXPECT_FALSE(nodes[1]["extras"]["rove"]["shown"].as_bool());
+  EXPECT_FALSE(nodes[2]["extras"]["rove"].contains("shown"));  // shown: the key is left out
+  EXPECT_FALSE(nodes[3]["extras"]["rove"].contains("shown"));
+}
+
 }  // namespace
 }  // namespace rove

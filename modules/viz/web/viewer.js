@@ -192,6 +192,7 @@
     // Draw ranges count indices on indexed geometry (boxes, grids).
     var elements = g.index ? g.index.count : count;
     var L = { obj: o, info: info, kind: info.kind, count: count, visible: true, drawStart: 0, drawCount: elements };
+    if (info.shown === false) o.visible = false;  // a layer that starts hidden (its box unticked)
     L.times = g.attributes._time ? g.attributes._time.array : null;
     L.timed = L.times && info.time_mode !== 'none' && sorted(L.times);
     L.hasColor = !!g.attributes.color;
@@ -401,7 +402,7 @@
     this.layers.forEach(function (L) {
       var row = el('label', { 'class': 'rove-layer' }, list);
       var box = el('input', { type: 'checkbox' }, row);
-      box.checked = true;
+      box.checked = L.obj.visible;
       box.addEventListener('change', function () { L.obj.visible = box.checked; self.requestRender(); });
       var n = L.info.source_count > L.count ? L.count + ' of ' + L.info.source_count : String(L.count);
       el('span', { text: ' ' + L.info.name + ' (' + L.kind.replace(/_/g, ' ') + ', ' + n + ')' }, row);

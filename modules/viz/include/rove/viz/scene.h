@@ -118,6 +118,9 @@ struct Layer {
   float point_size = 2.0f;                   ///< pixels, for points
   TimeMode time_mode = TimeMode::None;       ///< how `times` animate it
   std::string text;                          ///< a label's text
+  /// Drawn when the page opens; false starts the layer hidden (its box in
+  /// the layer list unticked), e.g. a map's octree beneath its cloud.
+  bool shown = true;
   /// For a Grid layer: its cells (the texture holds p(free) in gray,
   /// 255·p rounded); empty for other layers.
   std::optional<GridCells> grid;

@@ -20,7 +20,7 @@
 ///    `rove lidar-slam` (nodes.tum + graph.g2o), `rove pf-localization`
 ///    (steps.txt), `rove kf-slam` (landmarks.csv + path.tum), `rove rbpf-slam`
 ///    (ess.csv + path.tum; map.yaml or beacons.csv), `rove nav run` (driven.tum + planned.tum),
-///    `rove rgbd-slam` (trajectory.tum + keyframes.tum; map.ply, graph.g2o,
+///    `rove rgbd-slam` (trajectory.tum + keyframes.tum; map.ply, map.bt, graph.g2o,
 ///    loops.csv), shown with −y up (its world is a camera's optical frame)
 ///    when it is the first input.
 
