@@ -340,11 +340,16 @@ class TiledRayWriter {
       tile_ = &t;
       own_ = true;
     }
-    const_cast<GridTile*>(tile_)->cells[i] = static_cast<std::int8_t>(nv);
+    GridTile& t = *const_cast<GridTile*>(tile_);
+    t.cells[i] = static_cast<std::int8_t>(nv);
+    // The cell's occupied bit follows its value (the rest of the tile's
+    // bits are unchanged: no recomputation of the tile at the end).
+    std::uint32_t& row = t.occupied[static_cast<std::size_t>(cy & kMask)];
+    const int lx = cx & kMask;
+    row = (row & ~(1u << lx)) | (static_cast<std::uint32_t>(nv < below_) << lx);
   }
-  // Recomputes the occupied bits of the tiles written; fills the counts.
+  // Fills the counts.
   void finish(TiledInsertResult& r) {
-    for (GridTile* t : written_) t->update_occupied();
     r.tiles_changed = written_.size();
     r.tiles_copied = copied_;
   }
@@ -352,6 +357,7 @@ class TiledRayWriter {
  private:
   TiledGrid& grid_;
   std::uint64_t stamp_ = 0;
+  int below_ = occupied_below();  // occupied: a value below this
   int tx_ = std::numeric_limits<int>::min(), ty_ = 0;
   const GridTile* tile_ = nullptr;
   bool own_ = false;
@@ -573,14 +579,46 @@ void TiledDistanceMemo::clear() noexcept {
   size_ = 0;
   if (++generation_ == 0) {  // after 2^32 clears: forget the stamps for real
     for (Slot& slot : slots_) slot.stamp = 0;
+    for (Window& w : windows_) w.stamp = 0;
     generation_ = 1;
   }
 }
 
+void TiledDistanceMemo::reserve_points(std::size_t points) {
+  if (points <= windows_.size()) return;
+  windows_.resize(points);  // stamp 0: never current
+  cells_.resize(points << (2 * kWindowLog));
+}
+
 std::uint32_t TiledLikelihoodField::distance(const TiledGrid& grid, int cx, int cy,
-                                             TiledDistanceMemo* memo) const {
+                                             TiledDistanceMemo* memo, std::size_t j) const {
   if (memo == nullptr) return grid.squared_distance(cx, cy, radius_);
   TiledDistanceMemo& m = *memo;
+  constexpr int kW = TiledDistanceMemo::kWindow, kLog = TiledDistanceMemo::kWindowLog;
+  TiledDistanceMemo::Window& w = m.windows_[j];
+  std::uint16_t* cells = m.cells_.data() + (j << (2 * kLog));
+  if (w.stamp != m.generation_) {
+    // Cell coordinates stay within ±2^30: these do not overflow.
+    w = {cx - kW / 2, cy - kW / 2, m.generation_};
+    std::fill_n(cells, kW * kW, TiledDistanceMemo::kUnknown);
+  }
+  // Offsets in the window, modulo 2^32 (no signed overflow however far apart).
+  const unsigned ux = static_cast<unsigned>(cx) - static_cast<unsigned>(w.x0);
+  const unsigned uy = static_cast<unsigned>(cy) - static_cast<unsigned>(w.y0);
+  if ((ux | uy) < static_cast<unsigned>(kW)) {
+    std::uint16_t& e = cells[(uy << kLog) | ux];
+    if (e != TiledDistanceMemo::kUnknown) {
+      ++m.window_hits_;
+      return e;
+    }
+    ++m.misses_;
+    // Beyond the radius (radius < 32: d² ≤ 961 within it) any value above
+    // it says so; kUnknown − 1 fits.
+    const std::uint32_t d2 = std::min<std::uint32_t>(grid.squared_distance(cx, cy, radius_),
+                                                     TiledDistanceMemo::kUnknown - 1u);
+    e = static_cast<std::uint16_t>(d2);
+    return d2;
+  }
   const std::uint64_t key = (std::uint64_t{static_cast<std::uint32_t>(cx)} << 32) |
                             std::uint64_t{static_cast<std::uint32_t>(cy)};
   // Fibonacci hashing, then linear probing.
@@ -607,13 +645,14 @@ double TiledLikelihoodField::point_sum(const TiledGrid& grid, const TiledScanPoi
                                        const SE2d& T_map_robot, double stop_below,
                                        TiledDistanceMemo* memo) const {
   const std::size_t n = scan.xs.size();
+  if (memo != nullptr) memo->reserve_points(n);
   const Eigen::Vector2d cs = T_map_robot.rotation().unit_complex();
   const Eigen::Vector2d& t = T_map_robot.translation();
   double sum = 0.0;
   for (std::size_t j = 0; j < n; ++j) {
     const double wx = t.x() + scan.xs[j] * cs.x() - scan.ys[j] * cs.y();
     const double wy = t.y() + scan.xs[j] * cs.y() + scan.ys[j] * cs.x();
-    const std::uint32_t d2 = distance(grid, grid.to_idx(wx), grid.to_idx(wy), memo);
+    const std::uint32_t d2 = distance(grid, grid.to_idx(wx), grid.to_idx(wy), memo, j);
     sum += d2 < cap_cells_ ? value_[d2] : capped_;
     // Checked every 8 points: the bound costs a multiplication.
     if ((j & 7u) == 7u) {

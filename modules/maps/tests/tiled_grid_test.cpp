@@ -122,6 +122,18 @@ TEST(TiledGrid, InsertionEqualsFlatInsertion) {
     // corners at float cell boundaries, so two flat grids of different
     // origins already differ in a few cells (the window is one).
     expect_same_cells(tiled, flat, widening ? 2e-3 : 0.0);
+    // Every tile's occupied bits, kept per written cell, are its cells'.
+    std::size_t tiles = 0;
+    for (int ty = -2; ty < 40 / kRes / GridTile::kSide + 2; ++ty) {
+      for (int tx = -2; tx < 40 / kRes / GridTile::kSide + 2; ++tx) {
+        const GridTile* t = tiled.tile_at(tx * GridTile::kSide, ty * GridTile::kSide);
+        if (t == nullptr) continue;
+        GridTile fresh = *t;
+        EXPECT_FALSE(fresh.update_occupied()) << tx << " " << ty;
+        ++tiles;
+      }
+    }
+    EXPECT_EQ(tiles, tiled.tile_count());
     // The export holds the same cells.
     const OccupancyGrid exported = tiled.to_occupancy_grid();
     TiledGrid back(kRes);
@@ -253,7 +265,10 @@ TEST(TiledGrid, DistanceMemoGivesTheSameLikelihoods) {
   for (int i = 0; i < 20; ++i) {
     const SE2d pose(kOff + 0.5 + u(rng), kOff + 1.0 + u(rng), 3.0 * u(rng));
     const TiledScanPoints pts = field.prepare(room_scan(pose, rng));
-    // Nearby poses of one proposal: their points share cells.
+    // A proposal: the memo cleared once (the points' windows placed afresh),
+    // then nearby poses whose points share cells.
+    memo.clear();
+    tiny.clear();
     for (int k = 0; k < 30; ++k) {
       const SE2d guess(pose.translation().x() + 0.05 * u(rng), pose.translation().y() + 0.05 * u(rng),
                        pose.angle() + 0.02 * u(rng));
@@ -265,8 +280,22 @@ TEST(TiledGrid, DistanceMemoGivesTheSameLikelihoods) {
                 field.log_likelihood_above(tiled, pts, guess, floor));
     }
   }
-  EXPECT_GT(memo.hits(), 2 * memo.misses());  // most lookups found their cell
-  EXPECT_GT(tiny.misses(), memo.misses());
+  EXPECT_GT(memo.window_hits() + memo.hits(), 2 * memo.misses());  // most lookups found their cell
+  EXPECT_GT(memo.window_hits(), memo.hits());  // most of them in the points' windows
+  // Poses far apart with one scan and no clear(): the points leave their
+  // windows, so the table answers (or, 8 slots full, does not).
+  TiledDistanceMemo wide, wide_tiny(4);
+  const SE2d center(kOff + 0.5, kOff + 1.0, 0.2);
+  const TiledScanPoints far_pts = field.prepare(room_scan(center, rng));
+  for (int k = 0; k < 60; ++k) {
+    const SE2d guess(center.translation().x() + 0.6 * u(rng), center.translation().y() + 0.6 * u(rng),
+                     center.angle() + 0.3 * u(rng));
+    const double exact = field.log_likelihood(tiled, far_pts, guess);
+    ASSERT_EQ(field.log_likelihood_above(tiled, far_pts, guess, none, wide), exact) << k;
+    ASSERT_EQ(field.log_likelihood_above(tiled, far_pts, guess, none, wide_tiny), exact) << k;
+  }
+  EXPECT_GT(wide.hits(), wide.window_hits());
+  EXPECT_GT(wide_tiny.misses(), wide.misses());
   // After an insertion the memo is cleared and agrees with the new grid.
   const SE2d extra(kOff + 2.0, kOff + 2.0, 0.3);
   insert_scan(tiled, room_scan(extra, rng), extra, ins);

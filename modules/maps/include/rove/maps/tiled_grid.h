@@ -230,11 +230,17 @@ TiledInsertResult insert_scan(TiledGrid& grid, const RangeScan2D& scan, const SE
 /// The squared distances to the nearest occupied cell already found in one
 /// state of one TiledGrid, for many likelihood evaluations of nearby poses
 /// against it (a particle filter's proposal): the points of neighbouring
-/// poses fall in the same cells again and again. An open-addressing table
-/// of 2^capacity_log2 cells; once half full, further cells are computed
-/// without being kept. The values are exactly those computed without it.
+/// poses fall in the same cells again and again. Each scan point has a
+/// window of 16 × 16 cells, placed around the cell it first falls in after
+/// a clear() (a direct lookup: the poses of one proposal move a point by a
+/// few cells); cells outside it go to an open-addressing table of
+/// 2^capacity_log2 cells, which once half full computes further cells
+/// without keeping them. The values are exactly those computed without it
+/// (distances beyond the search radius may be given as another value
+/// beyond it).
 /// clear() before using it with another grid, another state of the same
-/// grid (after an insertion) or another search radius: it cannot tell.
+/// grid (after an insertion) or another search radius: it cannot tell; and
+/// for another scan, whose points would otherwise miss the old windows.
 /// Not thread-safe: one per thread.
 class TiledDistanceMemo {
  public:
@@ -242,7 +248,9 @@ class TiledDistanceMemo {
   explicit TiledDistanceMemo(int capacity_log2 = 14);
   /// Forgets every cell, in O(1).
   void clear() noexcept;
-  /// Lookups answered from the table and cells computed since construction.
+  /// Lookups answered from the points' windows, from the table, and cells
+  /// computed, since construction.
+  std::size_t window_hits() const noexcept { return window_hits_; }
   std::size_t hits() const noexcept { return hits_; }
   std::size_t misses() const noexcept { return misses_; }
 
@@ -257,7 +265,20 @@ class TiledDistanceMemo {
   std::uint32_t generation_ = 1;
   std::size_t size_ = 0;
   int shift_ = 0;
-  std::size_t hits_ = 0, misses_ = 0;
+  std::size_t window_hits_ = 0, hits_ = 0, misses_ = 0;
+  // The points' windows: point j's cells (x0 + i, y0 + k) at
+  // cells_[j·256 + 16·k + i], kUnknown until computed; a window whose stamp
+  // is not generation_ is placed afresh when the point is next looked up.
+  static constexpr int kWindowLog = 4, kWindow = 1 << kWindowLog;
+  static constexpr std::uint16_t kUnknown = 0xffff;
+  struct Window {
+    int x0 = 0, y0 = 0;
+    std::uint32_t stamp = 0;
+  };
+  std::vector<Window> windows_;
+  std::vector<std::uint16_t> cells_;
+  // Windows for `points` points.
+  void reserve_points(std::size_t points);
 };
 
 /// A scan's points ready for repeated likelihood evaluation in tiled grids:
@@ -322,8 +343,10 @@ class TiledLikelihoodField {
   // Sum of the points' values, or its upper bound once below stop_below.
   double point_sum(const TiledGrid& grid, const TiledScanPoints& scan, const SE2d& T_map_robot,
                    double stop_below, TiledDistanceMemo* memo) const;
-  // The squared distance of cell (cx, cy), through `memo` when given.
-  std::uint32_t distance(const TiledGrid& grid, int cx, int cy, TiledDistanceMemo* memo) const;
+  // The squared distance of cell (cx, cy), through `memo` when given
+  // (point j's window, then its table).
+  std::uint32_t distance(const TiledGrid& grid, int cx, int cy, TiledDistanceMemo* memo,
+                         std::size_t j) const;
   float resolution_;
   GridLikelihoodOptions options_;
   GridInsertionOptions insertion_;
