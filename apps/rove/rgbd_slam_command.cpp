@@ -131,6 +131,7 @@ void write_stats(JsonWriter& j, const RgbdSlamStats& st, const RgbdSlamRunResult
   j.key("recovered").value(st.recovered).key("weak_edges").value(st.weak_edges);
   j.key("loop_checks").value(st.loop_checks).key("loops_accepted").value(st.loops_accepted);
   j.key("optimizations").value(st.optimizations);
+  j.key("icp_edges").value(st.icp_edges).key("icp_refused").value(st.icp_refused);
   const double fps = r.processing_seconds > 0 ? static_cast<double>(r.frames) / r.processing_seconds : 0.0;
   const double total = r.processing_seconds + r.read_seconds;
   j.key("frames_per_second").value(fps);
@@ -140,7 +141,7 @@ void write_stats(JsonWriter& j, const RgbdSlamStats& st, const RgbdSlamRunResult
   j.key("features").value(st.features_seconds).key("matching").value(st.matching_seconds);
   j.key("pnp").value(st.pnp_seconds).key("loop_closure").value(st.loop_seconds);
   j.key("graph").value(st.graph_seconds).key("map").value(st.map_seconds);
-  j.key("octree").value(st.octree_seconds);
+  j.key("octree").value(st.octree_seconds).key("icp").value(st.icp_seconds);
   j.end_object();
 }
 
@@ -197,6 +198,12 @@ void print_report(const RgbdSlamCliOptions& o, const RgbdSequence& seq, const Rg
              st.no_features, st.keyframes);
   fmt::print("  loop closure: {} of {} checks accepted; {} optimizations\n", st.loops_accepted,
              st.loop_checks, st.optimizations);
+  if (slam.options().icp_voxel > 0.0) {
+    fmt::print("  geometric edges (GICP of keyframe clouds): {} added, {} refused, {:.3f} s\n", st.icp_edges,
+               st.icp_refused, st.icp_seconds);
+  } else {
+    fmt::print("  geometric edges (GICP of keyframe clouds): off (icp_voxel = 0)\n");
+  }
   fmt::print("  time: {:.1f} frames/s processing ({:.1f} with image reading); features {:.3f} s, "
              "matching {:.3f} s, PnP {:.3f} s, loops {:.3f} s, graph {:.3f} s, map {:.3f} s, reading {:.3f} s\n",
              r.processing_seconds > 0 ? r.frames / r.processing_seconds : 0.0,

@@ -9,6 +9,7 @@
 #include "rove/core/check.h"
 #include "rove/core/timer.h"
 #include "rove/maps/voxel_grid.h"
+#include "rove/registration/icp_3d.h"
 
 namespace rove {
 namespace {
@@ -77,6 +78,42 @@ struct RgbdSlam::Impl {
   SE3d velocity;       // T_prev_cur of the last two tracked frames
   std::size_t consecutive_lost = 0;
   bool loop_added_since_optimization = false;
+  std::vector<std::unique_ptr<PreparedCloud3D>> icp_clouds;  // per keyframe, when first needed
+
+  const PreparedCloud3D& icp_cloud(std::size_t k) {
+    if (icp_clouds.size() <= k) icp_clouds.resize(k + 1);
+    if (!icp_clouds[k]) {
+      PrepareOptions po;
+      po.covariances = true;
+      icp_clouds[k] = std::make_unique<PreparedCloud3D>(PreparedCloud3D::from_cloud(
+          voxel_downsample(keyframes[k].cloud, static_cast<float>(opt.icp_voxel)), po));
+    }
+    return *icp_clouds[k];
+  }
+
+  // The relative pose of keyframes `from` and `to` measured by GICP of their
+  // clouds from the PnP estimate `guess`; added as an edge when it passes
+  // the checks of RgbdSlamOptions::icp_voxel.
+  void add_icp_edge(std::size_t from, std::size_t to, const SE3d& guess) {
+    if (opt.icp_voxel <= 0.0) return;
+    Stopwatch sw;
+    Icp3dOptions io;
+    io.method = Icp3dMethod::Gicp;
+    io.max_correspondence_distance = opt.icp_max_distance;
+    io.max_iterations = 30;
+    const PreparedCloud3D& target = icp_cloud(from);
+    const PreparedCloud3D& source = icp_cloud(to);
+    const bool usable = target.size() >= io.min_correspondences && source.size() >= io.min_correspondences;
+    const Icp3dResult r = usable ? icp_3d(target, source, guess, io) : Icp3dResult{};
+    if (usable && r.ok() && r.goodness >= opt.icp_min_pairing && r.covariance.allFinite() &&
+        motion_norm(guess.inverse() * r.T_target_source) <= opt.icp_max_correction) {
+      add_edge(from, to, r.T_target_source, measured_information(r.covariance));
+      ++stats.icp_edges;
+    } else {
+      ++stats.icp_refused;
+    }
+    stats.icp_seconds += sw.elapsed();
+  }
 
   Impl(const PinholeCamera& c, const RgbdSlamOptions& o) : camera(c), opt(o), rng(o.seed) {
     camera.check();
@@ -178,7 +215,10 @@ struct RgbdSlam::Impl {
     const std::size_t id = keyframes.size();
     keyframes.push_back({index, time, std::move(f), keyframe_cloud(frame)});
     graph.add_vertex(id, T_world_camera, id == 0);
-    if (from != kNoKeyframe) add_edge(from, id, T_from_new, info);
+    if (from != kNoKeyframe) {
+      add_edge(from, id, T_from_new, info);
+      add_icp_edge(from, id, T_from_new);
+    }
     ++stats.keyframes;
     return id;
   }
@@ -254,6 +294,7 @@ struct RgbdSlam::Impl {
       add_edge(c, k, T_c_k,
                measured_information(detail::inverse_covariance(a.pnp.T_camera_world, a.pnp.covariance)));
       add_reverse_edge(c, k, T_c_k);
+      add_icp_edge(c, k, T_c_k);
       ++accepted;
     }
     stats.loops_accepted += accepted;

@@ -66,6 +66,10 @@ void read_loops(const ConfigSection& s, RgbdSlamOptions& o) {
   o.loop_max_norm = s.get_in_range("max_norm_lp", o.loop_max_norm, 0.0, 1e6);
   o.symmetric_edges = s.get<bool>("symmetric_edges", o.symmetric_edges);
   o.huber_delta = s.get_in_range("huber_delta", o.huber_delta, 1e-6, 1e6);
+  o.icp_voxel = s.get_in_range("icp_voxel", o.icp_voxel, 0.0, 10.0);
+  o.icp_max_distance = s.get_in_range("icp_max_distance", o.icp_max_distance, 1e-4, 10.0);
+  o.icp_min_pairing = s.get_in_range("icp_min_pairing", o.icp_min_pairing, 0.0, 1.0);
+  o.icp_max_correction = s.get_in_range("icp_max_correction", o.icp_max_correction, 0.0, 1e3);
   o.voxel_grid = s.get_in_range("voxel_grid", o.voxel_grid, 1e-4, 1e3);
   o.map_stride = static_cast<std::uint32_t>(get_count(s, "map_stride", o.map_stride, 1, 1000));
   o.map_max_depth = s.get_in_range("map_max_depth", o.map_max_depth, 1e-3, 1e3);
@@ -103,6 +107,7 @@ RgbdSlamOptions RgbdSlamOptions::tutorial() {
   o.loop_min_inliers = 5;
   o.loop_max_norm = 5.0;
   o.symmetric_edges = false;
+  o.icp_voxel = 0.0;
   o.depth_edge_step = 0.0;
   o.voxel_grid = 0.01;
   return o;
@@ -163,6 +168,13 @@ void RgbdSlamOptions::check() const {
                      std::isfinite(edge_min_sigma_rotation) && edge_min_sigma_rotation >= 0.0,
                  "edge_min_sigma_translation and _rotation must be >= 0, got {} and {}",
                  edge_min_sigma_translation, edge_min_sigma_rotation);
+  ROVE_CHECK_MSG(std::isfinite(icp_voxel) && icp_voxel >= 0.0, "icp_voxel must be >= 0, got {}", icp_voxel);
+  ROVE_CHECK_MSG(std::isfinite(icp_max_distance) && icp_max_distance > 0.0,
+                 "icp_max_distance must be > 0, got {}", icp_max_distance);
+  ROVE_CHECK_MSG(icp_min_pairing >= 0.0 && icp_min_pairing <= 1.0, "icp_min_pairing must be in [0, 1], got {}",
+                 icp_min_pairing);
+  ROVE_CHECK_MSG(std::isfinite(icp_max_correction) && icp_max_correction >= 0.0,
+                 "icp_max_correction must be >= 0, got {}", icp_max_correction);
   ROVE_CHECK_MSG(map_stride >= 1, "map_stride must be >= 1, got {}", map_stride);
   ROVE_CHECK_MSG(std::isfinite(voxel_grid) && voxel_grid > 0.0, "voxel_grid must be > 0, got {}", voxel_grid);
   ROVE_CHECK_MSG(std::isfinite(map_max_depth) && map_max_depth > 0.0,

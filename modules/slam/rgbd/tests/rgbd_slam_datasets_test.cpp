@@ -17,7 +17,7 @@
 namespace rove {
 namespace {
 
-TEST(RgbdSlamDatasets, TumFr1RpyAteWithinThreeCentimeters) {
+TEST(RgbdSlamDatasets, TumFr1RpyAteWithinTwoAndAHalfCentimeters) {
   const RgbdSequence seq = read_rgbd_sequence(test_data::shared_dataset("rgbd/tum_fr1_rpy"));
   ASSERT_EQ(seq.frames.size(), 205u);
   EXPECT_EQ(seq.camera_source, "tum-fr1");
@@ -33,10 +33,21 @@ TEST(RgbdSlamDatasets, TumFr1RpyAteWithinThreeCentimeters) {
               st.loop_checks, st.features_seconds, st.matching_seconds, st.pnp_seconds,
               st.loop_seconds, st.graph_seconds, st.map_seconds, r.read_seconds);
   EXPECT_EQ(r.ate->translation.count, 205u);
-  // Measured: 2.62 cm (the target is 2.0 cm, not reached yet), 3
-  // frames lost to motion blur (frames 113-115).
-  EXPECT_LE(r.ate->translation.rmse, 0.030);
+  // Measured: 2.36 cm with the GICP edges, 2.62 cm without (the issue's
+  // target is 2.0 cm, not reached yet); 3 frames lost to motion blur
+  // (frames 113-115).
+  EXPECT_LE(r.ate->translation.rmse, 0.025);
   EXPECT_LE(st.lost, 5u);
+  EXPECT_GT(st.icp_edges, 2 * st.icp_refused);  // most keyframe pairs measured by depth too
+
+  // Without them (icp_voxel 0): worse, as measured.
+  RgbdSlamOptions no_icp;
+  no_icp.icp_voxel = 0.0;
+  RgbdSlam plain(seq.camera, no_icp);
+  const RgbdSlamRunResult p = run_rgbd_slam(plain, seq);
+  ASSERT_TRUE(p.ate.has_value()) << p.ate_problem;
+  EXPECT_EQ(plain.stats().icp_edges + plain.stats().icp_refused, 0u);
+  EXPECT_GT(p.ate->translation.rmse, r.ate->translation.rmse + 0.001);
 }
 
 TEST(RgbdSlamDatasets, IclNuimLivingRoomAgainstItsTruePoses) {

@@ -232,11 +232,26 @@ TEST(RgbdSlamOptions, ReadsTheTutorialNamesAndPresets) {
   const RgbdSlamOptions ot = RgbdSlamOptions::from_config(ConfigSection(oct, "rgbd-slam"));
   EXPECT_EQ(ot.octree_resolution, 0.1);
   EXPECT_EQ(ot.octree_threads, 0);
+
+  // The geometric edges: on by default, off in the tutorial's preset, keys read.
+  EXPECT_EQ(RgbdSlamOptions().icp_voxel, 0.02);
+  EXPECT_EQ(tut.icp_voxel, 0.0);
+  const IniFile icp = IniFile::parse(
+      "icp_voxel = 0.04\nicp_max_distance = 0.2\nicp_min_pairing = 0.7\nicp_max_correction = 0.05\n", "i.ini");
+  const ConfigSection is(icp, "");
+  const RgbdSlamOptions io = RgbdSlamOptions::from_config(is);
+  is.check_all_read();
+  EXPECT_EQ(io.icp_voxel, 0.04);
+  EXPECT_EQ(io.icp_max_distance, 0.2);
+  EXPECT_EQ(io.icp_min_pairing, 0.7);
+  EXPECT_EQ(io.icp_max_correction, 0.05);
 }
 
 TEST(RgbdSlamOptions, BadValuesNameTheKey) {
   for (const char* text : {"detector=SIFT\n", "min_inliers=2\n", "preset=fast\n", "voxel_grid=-1\n",
-                           "nearby_loops=1.5\n", "octree_resolution=-0.05\n", "octree_threads=1000\n"}) {
+                           "nearby_loops=1.5\n", "octree_resolution=-0.05\n", "octree_threads=1000\n",
+                           "icp_voxel=-0.02\n", "icp_max_distance=0\n", "icp_min_pairing=1.5\n",
+                           "icp_max_correction=nan\n"}) {
     const IniFile ini = IniFile::parse(text, "bad.ini");
     try {
       RgbdSlamOptions::from_config(ConfigSection(ini, ""));

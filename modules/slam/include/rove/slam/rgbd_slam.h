@@ -108,11 +108,14 @@ struct RgbdSlamStats {
   std::size_t loop_checks = 0;
   std::size_t loops_accepted = 0;
   std::size_t optimizations = 0;
+  std::size_t icp_edges = 0;     ///< geometric (GICP) edges added (RgbdSlamOptions::icp_voxel)
+  std::size_t icp_refused = 0;   ///< GICP measurements refused (not converged, few pairs, far from PnP)
   double features_seconds = 0.0; ///< ORB extraction, rays, 3D points
   double matching_seconds = 0.0; ///< descriptor matching (tracking)
   double pnp_seconds = 0.0;      ///< PnP (tracking)
   double loop_seconds = 0.0;     ///< loop closure: matching and PnP
   double graph_seconds = 0.0;    ///< pose-graph optimization
+  double icp_seconds = 0.0;      ///< GICP edges (clouds prepared, registration)
   double map_seconds = 0.0;      ///< keyframe clouds and the final voxel filter
   double octree_seconds = 0.0;   ///< the octree map (map_octree)
 };

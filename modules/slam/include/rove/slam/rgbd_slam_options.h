@@ -102,6 +102,19 @@ struct RgbdSlamOptions {
   /// bias. Defaults 2 mm and 0.002 rad.
   double edge_min_sigma_translation = 0.002;
   double edge_min_sigma_rotation = 0.002;
+  /// Geometric edges: each keyframe edge and accepted loop closure is also
+  /// measured by GICP between the two keyframes' clouds (voxel filtered
+  /// with leaf `icp_voxel` meters), started at the PnP estimate, and added
+  /// as a further edge (its covariance floored as above) when GICP
+  /// converged, paired at least `icp_min_pairing` of the points within
+  /// `icp_max_distance` meters, and moved the estimate by a motion norm of
+  /// at most `icp_max_correction`. Depth then constrains the graph beside
+  /// the features' pixels. 0 for icp_voxel turns it off. Defaults 0.02,
+  /// 0.1, 0.5, 0.1; the tutorial's off.
+  double icp_voxel = 0.02;
+  double icp_max_distance = 0.1;
+  double icp_min_pairing = 0.5;
+  double icp_max_correction = 0.1;
 
   /// The map: each keyframe's cloud with this pixel stride (≥ 1), voxel
   /// filtered with leaf `voxel_grid` meters (> 0). Defaults 2 and 0.01 (the
@@ -135,7 +148,8 @@ struct RgbdSlamOptions {
   /// fast_threshold, ratio, cross_check, guided_radius_px,
   /// guided_max_distance, reprojection_threshold_px, ransac_iterations,
   /// keyframe_min_inliers, proximity_loops, proximity_max_norm,
-  /// loop_min_inliers, huber_delta, min_depth, max_depth, map_stride,
+  /// loop_min_inliers, huber_delta, icp_voxel, icp_max_distance,
+  /// icp_min_pairing, icp_max_correction, min_depth, max_depth, map_stride,
   /// map_max_depth, octree_resolution, octree_threads, seed). The tutorial's camera.* keys, and its file and
   /// display keys, are accepted and ignored (the camera comes from the
   /// sequence). Throws ConfigError naming the key for a bad value or an
