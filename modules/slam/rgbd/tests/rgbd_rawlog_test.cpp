@@ -135,9 +135,11 @@ TEST(RgbdSlamRawlog, FollowsTheIntensityCameraOfARenderedRoom) {
     // a loop back to the start, as the one-camera run).
     EXPECT_LT(err.translation().norm(), 0.025) << "frame " << i;
     EXPECT_LT(err.rotation().log().norm(), 0.008) << "frame " << i;
-    // Measured: within 0.1 mm and 0.01 mrad of the one-camera run.
+    // Measured: within 0.1 mm and 0.01 mrad of the one-camera run without
+    // the geometric edges; with them (GICP reads the depth, which the
+    // registration resamples into the intensity camera) within 1.3 mm.
     const SE3d diff = one_camera.frame_pose(i).inverse() * slam.frame_pose(i);
-    EXPECT_LT(diff.translation().norm(), 0.001) << "frame " << i;
+    EXPECT_LT(diff.translation().norm(), 0.002) << "frame " << i;
     EXPECT_LT(diff.rotation().log().norm(), 0.0003) << "frame " << i;
     EXPECT_NEAR(slam.frame_time(i), seq.frames[i].time, 1e-9);
   }

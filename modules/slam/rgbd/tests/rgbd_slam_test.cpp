@@ -234,7 +234,7 @@ TEST(RgbdSlamOptions, ReadsTheTutorialNamesAndPresets) {
   EXPECT_EQ(ot.octree_threads, 0);
 
   // The geometric edges: on by default, off in the tutorial's preset, keys read.
-  EXPECT_EQ(RgbdSlamOptions().icp_voxel, 0.02);
+  EXPECT_EQ(RgbdSlamOptions().icp_voxel, 0.03);
   EXPECT_EQ(tut.icp_voxel, 0.0);
   const IniFile icp = IniFile::parse(
       "icp_voxel = 0.04\nicp_max_distance = 0.2\nicp_min_pairing = 0.7\nicp_max_correction = 0.05\n", "i.ini");
