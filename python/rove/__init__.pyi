@@ -308,3 +308,7 @@ def kf_slam(rawlog: _Path, config: _Path, overrides: _Overrides = ...,
 def rbpf_slam(rawlog: _Path, config: _Path, overrides: _Overrides = ..., seed: int = ...,
               threads: int = ..., particles: Optional[int] = ..., max_steps: Optional[int] = ...,
               on_step: Optional[Callable[[dict[str, Any]], None]] = ...) -> SimpleNamespace: ...
+def rgbd_slam(input: _Path, config: Optional[_Path] = ..., overrides: _Overrides = ...,
+              preset: str = ..., camera: str = ..., depth_scale: Optional[float] = ...,
+              max_frames: Optional[int] = ...,
+              on_frame: Optional[Callable[[dict[str, Any]], None]] = ...) -> SimpleNamespace: ...

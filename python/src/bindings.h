@@ -36,6 +36,8 @@ void bind_registration(py::module_& m);
 void bind_graph(py::module_& m);
 void bind_slam(py::module_& m);
 void bind_filters(py::module_& m);
+/// rove.rgbd_slam, when rove was built with rove::vision (else nothing).
+void bind_rgbd(py::module_& m);
 
 /// A numpy array that views `count` rows of `cols` values of type T at
 /// `data` (C order; cols == 0: a 1-D array) without copying. `owner` is the

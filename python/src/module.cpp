@@ -14,4 +14,5 @@ PYBIND11_MODULE(_rove, m) {
   rove::python::bind_graph(m);
   rove::python::bind_slam(m);
   rove::python::bind_filters(m);
+  rove::python::bind_rgbd(m);
 }

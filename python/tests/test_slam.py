@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import rove
-from conftest import DATA_DIR, ICP_SLAM_INI, TELECOM, run_cli_json
+from conftest import DATA_DIR, ICP_SLAM_INI, TELECOM, dataset, run_cli_json
 
 MRPT = DATA_DIR / "mrpt"
 
@@ -134,6 +134,31 @@ def test_rbpf_slam_equals_the_command_line(tmp_path):
     assert (r.map.size_x, r.map.size_y) == (cli["map_cells"]["x"], cli["map_cells"]["y"])
     cells = r.map.cells
     assert cells.__array_interface__["data"][0] == r.map._cells_address()
+
+
+@pytest.mark.datasets
+def test_rgbd_slam_equals_the_command_line(tmp_path):
+    if not hasattr(rove, "rgbd_slam"):
+        pytest.skip("rove was built without rove::vision (OpenCV)")
+    seq = dataset("rgbd/tum_fr1_rpy/groundtruth.txt").parent
+    cli = run_cli_json("rgbd-slam", seq, "--max-frames", "40", "--no-progress", "-o", tmp_path / "out",
+                       expect=(0, 3))
+    seen = []
+    r = rove.rgbd_slam(seq, max_frames=40, on_frame=lambda u: seen.append(u["index"]))
+    assert seen == list(range(40)) and r.camera == "tum-fr1"
+    assert r.trajectory.shape == (40, 8) and r.keyframes.shape == (cli["keyframes"], 8)
+    assert r.stats["keyframes"] == cli["keyframes"] and r.stats["icp_edges"] == cli["icp_edges"]
+    assert r.ate_rmse == cli["ate"]["rmse_m"] < 0.05
+    # The command line's trajectory file holds the same poses (TUM, 9 digits).
+    rows = np.loadtxt(tmp_path / "out" / "trajectory.tum")
+    np.testing.assert_allclose(r.trajectory, rows, rtol=0, atol=2e-6)
+    # The tutorial's preset through the keyword, an override, and a bad key.
+    t = rove.rgbd_slam(seq, max_frames=10, preset="tutorial", overrides={"": {"icp_voxel": 0.03}})
+    assert t.stats["frames"] == 10 and t.stats["icp_edges"] + t.stats["icp_refused"] > 0
+    with pytest.raises(rove.ConfigError, match="no_such_key"):
+        rove.rgbd_slam(seq, max_frames=2, overrides={"rgbd-slam": {"no_such_key": 1}})
+    with pytest.raises(ValueError, match="preset"):
+        rove.rgbd_slam(seq, max_frames=2, preset="fast")
 
 
 def test_ctrl_c_stops_the_run():
