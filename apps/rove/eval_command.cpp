@@ -1,13 +1,12 @@
 // `rove eval ate|rpe|relations`: trajectory evaluation. A thin layer over
-// rove/slam/trajectory_eval.h; the plot is drawn by eval_plot.cpp.
+// rove/slam/trajectory_eval_run.h (the metrics and their issues) and
+// trajectory_input.h (the files); the plot is drawn by eval_plot.cpp.
 
 #include <fmt/format.h>
 
-#include <cctype>
-#include <cmath>
-#include <filesystem>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,22 +14,18 @@
 #include "commands.h"
 #include "eval_plot.h"
 #include "report.h"
-#include "rove/core/error.h"
 #include "rove/core/files.h"
 #include "rove/core/json.h"
-#include "rove/graph/graph_io.h"
-#include "rove/io/carmen_log.h"
 #include "rove/io/trajectory_files.h"
-#include "rove/io/tum_trajectory.h"
 #include "rove/slam/trajectory_eval.h"
+#include "rove/slam/trajectory_eval_run.h"
+#include "rove/slam/trajectory_input.h"
 
 namespace rove::cli {
 
 namespace {
 
 constexpr double kDeg = 180.0 / std::numbers::pi;
-/// Times listed in an issue before "and N more".
-constexpr std::size_t kTimesListed = 5;
 
 struct EvalArgs {
   std::string first, second;  // GT EST (ate, rpe) or EST RELATIONS
@@ -38,72 +33,6 @@ struct EvalArgs {
   double max_dt = 0.01, offset = 0.0, delta = 1.0;
   bool json = false;
 };
-
-struct Trajectory {
-  std::vector<StampedPose3> poses;
-  std::string format;  // "tum", "kitti", "g2o/toro (2D)", ...
-};
-
-std::string extension(const std::string& path) {
-  const std::string e = std::filesystem::path(path).extension().string();
-  std::string lower;
-  for (const char c : e) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return lower;
-}
-
-template <class Graph>
-std::vector<StampedPose3> graph_vertices(const Graph& g) {
-  std::vector<StampedPose3> out;
-  for (const auto& [id, v] : g.vertices()) {
-    if constexpr (std::is_same_v<typename Graph::Pose, SE2d>) {
-      const Eigen::Matrix3d R(Eigen::AngleAxisd(v.pose.rotation().angle(), Eigen::Vector3d::UnitZ()));
-      out.push_back({static_cast<double>(id),
-                     SE3d(R, Eigen::Vector3d(v.pose.translation().x(), v.pose.translation().y(), 0))});
-    } else {
-      out.push_back({static_cast<double>(id), v.pose});
-    }
-  }
-  return out;
-}
-
-/// Reads a trajectory: TUM (8 fields a row), KITTI (12), or the vertices of
-/// a g2o/TORO graph (.g2o, .graph; the vertex id as time).
-Trajectory load_trajectory(const std::string& path, const std::string& format) {
-  check_regular_input(path, "trajectory");
-  std::string f = format;
-  const std::string ext = extension(path);
-  if (f == "auto") {
-    const std::vector<std::string> first =
-        ext == ".gz" ? std::vector<std::string>{}
-                     : first_row_fields(read_input_file(path, 1ull << 32, "trajectory"));
-    const std::size_t n = first.size();
-    if (ext == ".g2o" || ext == ".graph" || ext == ".gz" ||
-        (n > 0 && std::isalpha(static_cast<unsigned char>(first[0][0])))) {
-      f = "graph";
-    } else {
-      if (n == 8) f = "tum";
-      else if (n == 12) f = "kitti";
-      else
-        throw ParseError({printable(path), std::nullopt, std::nullopt, "format"},
-                         fmt::format("the first row has {} fields: not a TUM trajectory (8: t x y z "
-                                     "qx qy qz qw) nor KITTI poses (12); use --format",
-                                     n));
-    }
-  }
-  if (f == "tum") return {read_tum_trajectory(path), "tum"};
-  if (f == "kitti") return {read_kitti_trajectory(path), "kitti"};
-  if (detect_graph_dimension(path) == GraphDimension::ThreeD)
-    return {graph_vertices(read_graph_3d(path)), "graph (3D vertices, id as time)"};
-  return {graph_vertices(read_graph_2d(path)), "graph (2D vertices, id as time)"};
-}
-
-std::string listed_times(const std::vector<double>& times) {
-  std::string s;
-  for (std::size_t k = 0; k < std::min(times.size(), kTimesListed); ++k)
-    s += fmt::format("{}{:.6f}", k == 0 ? "" : ", ", times[k]);
-  if (times.size() > kTimesListed) s += fmt::format(" and {} more", times.size() - kTimesListed);
-  return s;
-}
 
 void write_stats(JsonWriter& j, std::string_view name, const ErrorStatistics& s) {
   j.key(name).begin_object();
@@ -121,19 +50,14 @@ void print_stats(std::string_view name, const ErrorStatistics& s, double factor,
              s.min * factor, s.max * factor, unit);
 }
 
-std::vector<Issue> association_issues(const TrajectoryAssociation& a, std::size_t estimate_size) {
+std::vector<Issue> issues_of(const std::vector<TrajectoryEvalIssue>& found) {
   std::vector<Issue> issues;
-  if (!a.unmatched_estimate_times.empty())
-    issues.push_back({"unassociated",
-                      fmt::format("{} of {} estimate poses have no reference pose within the "
-                                  "time tolerance: t = {}",
-                                  a.unmatched_estimate_times.size(), estimate_size,
-                                  listed_times(a.unmatched_estimate_times))});
+  for (const auto& i : found) issues.push_back({i.code, i.message});
   return issues;
 }
 
-void begin_report(JsonWriter& j, std::string_view metric, const EvalArgs& a, const Trajectory& ref,
-                  const Trajectory& est) {
+void begin_report(JsonWriter& j, std::string_view metric, const EvalArgs& a, const LoadedTrajectory& ref,
+                  const LoadedTrajectory& est) {
   j.begin_object();
   j.key("metric").value(metric);
   j.key("reference").begin_object().key("file").value(a.first).key("format").value(ref.format);
@@ -144,29 +68,17 @@ void begin_report(JsonWriter& j, std::string_view metric, const EvalArgs& a, con
 
 void run_ate(const EvalArgs& a) {
   if (!a.plot.empty()) check_outputs_distinct({a.first, a.second}, {a.plot});
-  const Trajectory ref = load_trajectory(a.first, a.format);
-  const Trajectory est = load_trajectory(a.second, a.format);
+  const LoadedTrajectory ref = load_trajectory(a.first, a.format);
+  const LoadedTrajectory est = load_trajectory(a.second, a.format);
   AteOptions o;
   o.association = {a.max_dt, a.offset};
   o.alignment = parse_trajectory_alignment(a.align);
-  const AteResult r = absolute_trajectory_error(ref.poses, est.poses, o);
-  std::vector<Issue> issues = association_issues(r.association, est.poses.size());
-  if (r.transform.degenerate)
-    issues.push_back({"degenerate-alignment",
-                      "the associated positions lie on a line: the rotation about it is not "
-                      "determined by the alignment"});
-  if (o.alignment != TrajectoryAlignment::None && r.position_spread < 10.0 * r.translation.rmse) {
-    issues.push_back({"weak-alignment-rotation",
-                      fmt::format("the associated positions spread only {:.3g} m (RMS about their "
-                                  "centroid), under 10 times the position RMSE ({:.3g} m): the "
-                                  "alignment's rotation, taken from the positions, is weakly "
-                                  "determined, and the rotation errors mostly show it (rove eval "
-                                  "rpe measures rotation without an alignment)",
-                                  r.position_spread, r.translation.rmse)});
-  }
+  const AteEvaluation e = evaluate_ate(ref.poses, est.poses, o);
+  const AteResult& r = e.result;
+  const std::vector<Issue> issues = issues_of(e.issues);
   if (!a.plot.empty()) {
     std::vector<Eigen::Vector3d> ref_xy, est_xy;
-    for (const auto& [i, e] : r.association.pairs) ref_xy.push_back(ref.poses[i].pose.translation());
+    for (const auto& [i, est_index] : r.association.pairs) ref_xy.push_back(ref.poses[i].pose.translation());
     for (const SE3d& p : r.aligned_estimate) est_xy.push_back(p.translation());
     write_ate_plot(ref_xy, est_xy, r.times, r.translation_errors, a.plot);
   }
@@ -205,21 +117,16 @@ void run_ate(const EvalArgs& a) {
 }
 
 void run_rpe(const EvalArgs& a) {
-  const Trajectory ref = load_trajectory(a.first, a.format);
-  const Trajectory est = load_trajectory(a.second, a.format);
+  const LoadedTrajectory ref = load_trajectory(a.first, a.format);
+  const LoadedTrajectory est = load_trajectory(a.second, a.format);
   RpeOptions o;
   o.association = {a.max_dt, a.offset};
   o.delta = a.delta;
   o.unit = parse_rpe_unit(a.unit);
-  const TrajectoryAlignment alignment = parse_trajectory_alignment(a.align);
-  if (alignment == TrajectoryAlignment::Sim3) {
-    AteOptions ate;
-    ate.association = o.association;
-    ate.alignment = alignment;
-    o.scale = absolute_trajectory_error(ref.poses, est.poses, ate).transform.scale;
-  }
-  const RpeResult r = relative_pose_error(ref.poses, est.poses, o);
-  const std::vector<Issue> issues = association_issues(r.association, est.poses.size());
+  const RpeEvaluation e = evaluate_rpe(ref.poses, est.poses, o, parse_trajectory_alignment(a.align));
+  const RpeResult& r = e.result;
+  o.scale = e.scale;
+  const std::vector<Issue> issues = issues_of(e.issues);
   if (a.json) {
     JsonWriter j;
     begin_report(j, "rpe", a, ref, est);
@@ -244,35 +151,15 @@ void run_rpe(const EvalArgs& a) {
   finish(issues);
 }
 
-/// The ipc and logger timestamps of a CARMEN log's front-laser lines.
-std::vector<ClockPair> carmen_clock(const std::string& path) {
-  check_regular_input(path, "CARMEN log");
-  CarmenLogReader reader = CarmenLogReader::open(path);
-  std::vector<ClockPair> clock;
-  CarmenRecord record;
-  while (reader.next(record))
-    if (record.type == CarmenMessage::Flaser || record.type == CarmenMessage::RobotLaser1)
-      clock.push_back({record.ipc_timestamp, record.logger_timestamp});
-  if (clock.empty())
-    throw ParseError({printable(path), std::nullopt, std::nullopt, "FLASER"},
-                     "the log has no front-laser line (FLASER or ROBOTLASER1) to take times from");
-  return clock;
-}
-
 void run_relations(const EvalArgs& a) {
-  const Trajectory est = load_trajectory(a.first, a.format);
+  const LoadedTrajectory est = load_trajectory(a.first, a.format);
   RelationOptions o;
   o.max_time_difference = a.max_dt;
-  std::vector<PoseRelation> relations = read_relations(a.second);
-  if (!a.log.empty()) relations = map_relation_times(std::move(relations), carmen_clock(a.log), a.max_dt);
-  const RelationResult r = relation_error(est.poses, relations, o);
-  std::vector<Issue> issues;
-  if (!r.missing_times.empty())
-    issues.push_back({"missing-times",
-                      fmt::format("{} of {} relations left out: the estimate has no pose within "
-                                  "{} s of t = {}",
-                                  r.relations - r.used, r.relations, a.max_dt,
-                                  listed_times(r.missing_times))});
+  std::optional<std::vector<ClockPair>> clock;
+  if (!a.log.empty()) clock = carmen_log_clock(a.log);
+  const RelationEvaluation e = evaluate_relations(est.poses, read_relations(a.second), o, clock);
+  const RelationResult& r = e.result;
+  const std::vector<Issue> issues = issues_of(e.issues);
   if (a.json) {
     JsonWriter j;
     j.begin_object();
