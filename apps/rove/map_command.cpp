@@ -26,6 +26,7 @@
 #include "rove/maps/metric_map_occupancy_grid.h"
 #include "rove/maps/metric_map_octree.h"
 #include "rove/maps/multi_metric_map.h"
+#include "rove/slam/map_build_outputs.h"
 #include "rove/slam/metric_map_builder.h"
 
 namespace rove::cli {
@@ -64,75 +65,15 @@ struct MapBuildArgs {
   bool json = false;
 };
 
-// Every file `map build` writes is named map_* in the output folder: refuse
-// when an input is (or resolves to) such a file there, before any work.
-void check_build_outputs(const MapBuildArgs& a) {
-  check_regular_input(a.config, "config file");
-  check_regular_input(a.input, "input");
-  std::error_code ec;
-  if (fs::exists(a.out_dir, ec) && !fs::is_directory(a.out_dir, ec)) {
-    throw IoError(printable(a.out_dir), "the output folder (-o) is an existing file, not a folder");
-  }
-  if (!fs::exists(a.out_dir, ec)) return;
-  const fs::path out = fs::canonical(a.out_dir, ec);
-  for (const auto& in : {a.config, a.input}) {
-    const fs::path p = fs::canonical(in, ec);
-    if (ec) continue;
-    if (p.parent_path() == out && p.filename().string().starts_with("map_")) {
-      throw IoError(printable(in),
-                    fmt::format("is in the output folder {} under a name `map build` writes "
-                                "(map_*); choose another -o",
-                                printable(a.out_dir)));
-    }
-  }
-}
-
 void run_map_build(const MapBuildArgs& a) {
-  check_build_outputs(a);
+  check_map_build_outputs(a.config, a.input, a.out_dir);
   const IniFile ini = IniFile::load(a.config, IniOptions{.strict = false});
   MapBuildConfig cfg = load_map_build_config(ini, a.section);
   MultiMetricMap& mm = cfg.maps;
   const MapBuildResult r = build_map(a.input, mm);
-  std::error_code ec;
-  fs::create_directories(a.out_dir, ec);
-  if (ec) throw IoError(printable(a.out_dir), "cannot create the output folder: " + ec.message());
-  auto files = save_metric_map((fs::path(a.out_dir) / "map").string(), mm);
-  // Occupancy grids also as a ROS map_server map (map_saver's trinary PNG + yaml).
-  for (std::size_t i = 0; i < mm.size(); ++i) {
-    const auto& e = mm.entries()[i];
-    if (const auto* g = dynamic_cast<const OccupancyGridMetricMap*>(e.map.get())) {
-      const RosMapFiles ros = save_ros_map(
-          (fs::path(a.out_dir) / fmt::format("map_{:02}_{}", i, e.map->kind())).string(), g->grid());
-      files.push_back(ros.image);
-      files.push_back(ros.yaml);
-    }
-  }
-
+  const std::vector<std::string> files = save_map_build(a.out_dir, mm);
   std::vector<Issue> issues;
-  if (r.observations == 0) {
-    issues.push_back({"no-observations", fmt::format("{} holds no observation: every map is empty",
-                                                     printable(a.input))});
-  } else if (r.observations_used == 0) {
-    issues.push_back({"nothing-inserted",
-                      fmt::format("none of the {} observations was inserted into any map",
-                                  r.observations)});
-  } else {
-    for (std::size_t i = 0; i < mm.size(); ++i) {
-      const auto& e = mm.entries()[i];
-      if (e.params.enable_insertion && e.observations_inserted == 0) {
-        issues.push_back({"empty-map", fmt::format("map {} ({}) received no observation", i,
-                                                   e.map->kind())});
-      }
-    }
-  }
-  for (std::size_t i = 0; i < mm.size(); ++i) {
-    const auto* o = dynamic_cast<const OctreeMetricMap*>(mm.entries()[i].map.get());
-    if (o == nullptr || o->undecoded_velodyne_scans() == 0) continue;
-    issues.push_back({"velodyne-not-decoded",
-                      fmt::format("map {} ({}): {} Velodyne scan{} not inserted: {}", i, o->kind(),
-                                  o->undecoded_velodyne_scans(), o->undecoded_velodyne_scans() == 1 ? "" : "s",
-                                  o->undecoded_velodyne_reason())});
-  }
+  for (const auto& i : map_build_issues(r, mm, a.input)) issues.push_back({i.code, i.message});
   const char* input_kind = r.input == MapInputKind::SimpleMap ? "simplemap" : "rawlog";
 
   if (a.json) {

@@ -8,7 +8,9 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_values.h"
@@ -16,7 +18,6 @@
 #include "nav_commands.h"
 #include "nav_picture.h"
 #include "report.h"
-#include "rove/core/config_section.h"
 #include "rove/core/error.h"
 #include "rove/core/files.h"
 #include "rove/core/ini.h"
@@ -24,6 +25,7 @@
 #include "rove/io/rove_rawlog.h"
 #include "rove/io/tum_trajectory.h"
 #include "rove/nav/navigation_run.h"
+#include "rove/nav/navigation_run_config.h"
 
 namespace rove::cli {
 
@@ -61,51 +63,18 @@ int item_count(const std::string& text) {
 
 // The run's options from the command line, then the config's sections.
 NavigationRunOptions run_options(const NavRunArgs& a, std::vector<std::string>& notes) {
-  NavigationRunOptions o = NavigationRunOptions::for_robot(a.robot_radius, a.max_v, a.max_w_deg * std::numbers::pi / 180);
-  o.planner = a.planner == "reactive" ? LocalPlannerKind::Reactive : LocalPlannerKind::Teb;
-  o.simulator.seed = a.seed;
-  o.max_time = a.max_time;
-  if (a.config.empty()) return o;
-  const IniFile ini = IniFile::load(a.config);
-  if (o.planner == LocalPlannerKind::Teb) {
-    if (!ini.has_section("TEB")) {
-      notes.push_back(fmt::format("{} has no [TEB] section: the TEB keeps its defaults", printable(a.config)));
-      return o;
-    }
-    const ConfigSection teb(ini, "TEB");
-    const TebOptions robot = o.teb;
-    o.teb = TebOptions::from_config(teb);
-    teb.check_all_read();
-    // What the section leaves out stays as the command line's robot sets it.
-    for (const auto& [key, field] :
-         {std::pair{"robot_radius", &TebOptions::robot_radius}, {"max_vel_x", &TebOptions::max_vel_x},
-          {"max_vel_theta", &TebOptions::max_vel_theta}, {"min_obstacle_dist", &TebOptions::min_obstacle_dist},
-          {"penalty_epsilon", &TebOptions::penalty_epsilon}}) {
-      if (!teb.has(key)) o.teb.*field = robot.*field;
-    }
-    o.teb.check();
-    return o;
-  }
-  std::vector<IgnoredConfigKey> ignored;
-  o.reactive = ReactiveNavigatorOptions::from_config(ini, &ignored);
-  // One note per section and reason.
-  for (std::size_t i = 0; i < ignored.size();) {
-    std::string keys = printable(ignored[i].key);
-    std::size_t j = i + 1;
-    for (; j < ignored.size() && ignored[j].section == ignored[i].section && ignored[j].reason == ignored[i].reason; ++j) {
-      keys += ", " + printable(ignored[j].key);
-    }
-    notes.push_back(fmt::format("[{}] {}: without effect ({})", printable(ignored[i].section), keys, ignored[i].reason));
-    i = j;
-  }
-  for (const PtgOptions& p : o.reactive.ptgs) {
-    if (p.robot_radius < a.robot_radius) {
-      throw ConfigError(a.config, "CReactiveNavigationSystem", "RobotModel_circular_shape_radius",
-                        fmt::format("the PTGs' footprint ({} m) is smaller than the robot (--robot-radius {} m)",
-                                    p.robot_radius, a.robot_radius));
-    }
-  }
-  return o;
+  NavigationRobot robot;
+  robot.planner = a.planner == "reactive" ? LocalPlannerKind::Reactive : LocalPlannerKind::Teb;
+  robot.radius = a.robot_radius;
+  robot.max_v = a.max_v;
+  robot.max_omega = a.max_w_deg * std::numbers::pi / 180;
+  std::optional<IniFile> ini;
+  if (!a.config.empty()) ini = IniFile::load(a.config);
+  NavigationRunConfig c = navigation_run_config(robot, ini ? &*ini : nullptr, a.config);
+  c.options.simulator.seed = a.seed;
+  c.options.max_time = a.max_time;
+  notes = std::move(c.notes);
+  return c.options;
 }
 
 void write_driven(const std::string& path, const NavigationRunResult& r, double dt) {
@@ -132,12 +101,12 @@ void write_planned(const std::string& path, const GridPath& g) {
 // Per cycle: time, pose, clearance (robot edge to the nearest obstacle).
 void write_clearances(const std::string& path, const NavigationRunResult& r, const NavigationGrid& world,
                       double radius, double dt) {
+  const std::vector<double> clearances = driven_clearances(r, world, radius);
   std::string text = "# t x y yaw clearance (s, m, m, rad, m)\n";
   for (std::size_t i = 0; i < r.driven.size(); ++i) {
     const SE2d& p = r.driven[i];
-    const double c = std::max(0.0, world.distance_to_obstacle(p.translation(), radius + 10.0) - radius);
     text += fmt::format("{:.3f} {:.4f} {:.4f} {:.5f} {:.4f}\n", static_cast<double>(i) * dt, p.translation().x(),
-                        p.translation().y(), p.angle(), c);
+                        p.translation().y(), p.angle(), clearances[i]);
   }
   write_text_file_atomically(path, text);
 }

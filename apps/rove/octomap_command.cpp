@@ -1,5 +1,7 @@
 // `rove octomap build INPUT... -o MAP.bt`: a 3D occupancy octree (OctoMap's
-// .bt or .ot) from point clouds and their sensor origins.
+// .bt or .ot) from point clouds and their sensor origins, built by
+// rove/io/octree_build.h; this file reads the command line and writes the
+// outputs.
 
 #include <fmt/format.h>
 
@@ -22,6 +24,7 @@
 #include "rove/core/parallel.h"
 #include "rove/core/timer.h"
 #include "rove/io/grid_image.h"
+#include "rove/io/octree_build.h"
 #include "rove/io/octree_files.h"
 #include "rove/io/pcd.h"
 #include "rove/io/ply.h"
@@ -49,12 +52,6 @@ struct OctomapBuildOptions {
   bool json = false;
 };
 
-std::string lower_extension(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return e;
-}
-
 Eigen::Vector3d parse_origin(const std::string& text) {
   Eigen::Vector3d v;
   std::size_t pos = 0;
@@ -72,35 +69,6 @@ Eigen::Vector3d parse_origin(const std::string& text) {
                    fmt::format("'{}' is not X,Y,Z (three finite numbers, meters)", printable(text)));
 }
 
-// One cloud with its sensor origin, in the map frame.
-struct Scan {
-  PointCloud cloud;
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-};
-
-Scan read_scan(const OctomapBuildOptions& o, std::size_t i, const std::vector<StampedPose3>& poses) {
-  const std::string& path = o.inputs[i];
-  const std::string ext = lower_extension(path);
-  Scan s;
-  if (ext == ".pcd") {
-    PcdHeader h;
-    s.cloud = read_pcd(path, &h);
-    s.origin = Eigen::Vector3d(h.viewpoint[0], h.viewpoint[1], h.viewpoint[2]);
-  } else {
-    s.cloud = read_ply(path);
-  }
-  if (!o.origin.empty()) s.origin = parse_origin(o.origin);
-  if (!poses.empty()) {
-    // Points in the sensor frame, mapped by the sensor's pose.
-    const SE3d& T = poses[i].pose;  // T_world_sensor
-    for (auto& p : s.cloud.points_mut()) {
-      if (p.allFinite()) p = (T * p.cast<double>()).cast<float>();
-    }
-    s.origin = T.translation();
-  }
-  return s;
-}
-
 // A CLI11 check that a number is finite (CLI::Range lets NaN through).
 const CLI::Validator kFinite(
     [](std::string& text) -> std::string {
@@ -111,51 +79,10 @@ const CLI::Validator kFinite(
     },
     "FINITE");
 
-OctreeUpdateMode parse_mode(const std::string& m) {
-  if (m == "discretized") return OctreeUpdateMode::Discretized;
-  if (m == "every-ray") return OctreeUpdateMode::EveryRay;
-  return OctreeUpdateMode::OncePerScan;
-}
-
-// What the clouds' colours did (--color).
-struct ColorSummary {
-  std::size_t clouds = 0;  // clouds with colours used
-  std::size_t points = 0;  // points whose colour was used
-  std::size_t leaves = 0;  // leaves coloured by the mean rule
-};
-
-// The tree with the Color channel added (every node white: no colour yet),
-// for when the first coloured cloud comes after clouds without colours.
-OccupancyOctree with_color_channel(const OccupancyOctree& t) {
-  std::vector<OctreeNodeRecord> nodes;
-  nodes.reserve(t.num_nodes());
-  t.for_each_node([&](const OctreeNodeRecord& n) { nodes.push_back(n); });
-  OccupancyOctree c(t.resolution(), t.params(), t.channels() | OctreeChannels::Color);
-  c.assign_preorder(nodes);
-  return c;
-}
-
-// Inserts one cloud, with its colours when --color uses them.
-OctreeInsertResult insert_scan(OccupancyOctree& tree, const Scan& s, const OctreeInsertOptions& io,
-                               const std::string& color, OctreeColorMean& means, ColorSummary& summary) {
-  if (color == "none" || !s.cloud.has_colors()) return tree.insert_point_cloud(s.cloud.points(), s.origin, io);
-  if (!has_channels(tree.channels(), OctreeChannels::Color)) tree = with_color_channel(tree);
-  ++summary.clouds;
-  if (color == "mean") {
-    summary.points += means.add(s.cloud.points(), s.cloud.colors());
-    return tree.insert_point_cloud(s.cloud.points(), s.origin, io);
-  }
-  const OctreeColorUpdate how = color == "set"       ? OctreeColorUpdate::Set
-                                : color == "average" ? OctreeColorUpdate::Average
-                                                     : OctreeColorUpdate::Integrate;
-  const OctreeInsertResult r = tree.insert_point_cloud(s.cloud.points(), s.cloud.colors(), s.origin, io, how);
-  summary.points += r.points - r.skipped_points;
-  return r;
-}
-
-void write_summary_json(const OctomapBuildOptions& o, const OccupancyOctree& t, std::size_t points,
-                        std::size_t skipped, std::size_t occupied, std::size_t leaves, const ColorSummary& colors,
-                        double seconds, const std::vector<std::string>& outputs, const std::vector<Issue>& issues) {
+void write_summary_json(const OctomapBuildOptions& o, const OctreeBuildResult& r,
+                        const std::vector<std::string>& outputs, const std::vector<Issue>& issues) {
+  const OccupancyOctree& t = r.tree;
+  const OctreeColorSummary& colors = r.colors;
   JsonWriter j;
   j.begin_object();
   j.key("command").value("octomap build");
@@ -171,11 +98,11 @@ void write_summary_json(const OctomapBuildOptions& o, const OccupancyOctree& t, 
   j.key("resolution").value(t.resolution());
   j.key("mode").value(o.mode).key("arithmetic").value(o.arithmetic);
   j.key("max_range").value(o.max_range).key("threads").value(o.threads);
-  j.key("points").value(static_cast<std::uint64_t>(points));
-  j.key("skipped_points").value(static_cast<std::uint64_t>(skipped));
+  j.key("points").value(static_cast<std::uint64_t>(r.points));
+  j.key("skipped_points").value(static_cast<std::uint64_t>(r.skipped_points));
   j.key("nodes").value(static_cast<std::uint64_t>(t.num_nodes()));
-  j.key("leaves").value(static_cast<std::uint64_t>(leaves));
-  j.key("occupied_leaves").value(static_cast<std::uint64_t>(occupied));
+  j.key("leaves").value(static_cast<std::uint64_t>(r.leaves));
+  j.key("occupied_leaves").value(static_cast<std::uint64_t>(r.occupied_leaves));
   j.key("memory_bytes").value(static_cast<std::uint64_t>(t.memory_usage()));
   j.key("colors");
   if (colors.clouds == 0) {
@@ -183,7 +110,7 @@ void write_summary_json(const OctomapBuildOptions& o, const OccupancyOctree& t, 
   } else {
     j.begin_object().key("rule").value(o.color).key("clouds").value(static_cast<std::uint64_t>(colors.clouds));
     j.key("points").value(static_cast<std::uint64_t>(colors.points));
-    j.key("mean_leaves").value(static_cast<std::uint64_t>(colors.leaves)).end_object();
+    j.key("mean_leaves").value(static_cast<std::uint64_t>(colors.mean_leaves)).end_object();
   }
   Eigen::Vector3d lo, hi;
   t.metric_bounds(lo, hi);
@@ -194,7 +121,7 @@ void write_summary_json(const OctomapBuildOptions& o, const OccupancyOctree& t, 
     j.begin_object().key("min").begin_array().value(lo.x()).value(lo.y()).value(lo.z()).end_array();
     j.key("max").begin_array().value(hi.x()).value(hi.y()).value(hi.z()).end_array().end_object();
   }
-  j.key("seconds").value(seconds);
+  j.key("seconds").value(r.seconds);
   j.key("outputs").begin_array();
   for (const auto& out : outputs) j.value(out);
   j.end_array();
@@ -206,17 +133,9 @@ void write_summary_json(const OctomapBuildOptions& o, const OccupancyOctree& t, 
 void run_build(const OctomapBuildOptions& o) {
   // Everything the command line names is checked before any work.
   const int threads = resolve_thread_count(o.threads, "--threads");
-  const std::string out_ext = lower_extension(o.output);
-  if (out_ext != ".bt" && out_ext != ".ot") {
-    throw IoError(printable(o.output), "-o: unknown octree format (expected .bt or .ot)");
-  }
+  (void)octree_output_format(o.output);
   std::vector<std::filesystem::path> inputs;
-  for (const auto& in : o.inputs) {
-    const std::string e = lower_extension(in);
-    if (e != ".pcd" && e != ".ply") throw IoError(printable(in), "unknown point cloud format (expected .pcd or .ply)");
-    check_regular_input(in, "point cloud");
-    inputs.emplace_back(in);
-  }
+  for (const auto& in : o.inputs) inputs.emplace_back(in);
   if (!o.poses.empty()) inputs.emplace_back(o.poses);
   if (!o.origin.empty()) (void)parse_origin(o.origin);
   std::vector<std::filesystem::path> outputs{o.output};
@@ -227,44 +146,29 @@ void run_build(const OctomapBuildOptions& o) {
     outputs.emplace_back(o.slice + ".yaml");
   }
   check_outputs_distinct(inputs, outputs);
-  std::vector<StampedPose3> poses;
-  if (!o.poses.empty()) {
-    poses = read_tum_trajectory(o.poses);
-    if (poses.size() != o.inputs.size()) {
-      throw ParseError({printable(o.poses), std::nullopt, std::nullopt, "poses"},
-                       fmt::format("{} poses for {} clouds: give one pose per cloud, in order", poses.size(),
-                                   o.inputs.size()));
+  OctreeBuildOptions bo;
+  bo.resolution = o.resolution;
+  if (!o.origin.empty()) bo.origin = parse_origin(o.origin);
+  if (!o.poses.empty()) bo.poses = read_tum_trajectory(o.poses);
+  bo.insert.max_range = o.max_range;
+  bo.insert.mode = parse_octree_update_mode(o.mode);
+  bo.insert.arithmetic = parse_octree_ray_arithmetic(o.arithmetic);
+  bo.insert.num_threads = threads;
+  bo.color = parse_octree_color_rule(o.color);
+  {
+    const OccupancyOctree probe(o.resolution);
+    if (!o.slice.empty() && !probe.key_of(Eigen::Vector3d(0.0, 0.0, o.slice_z))) {
+      throw InvalidArgument(fmt::format("--slice-z = {}: outside the octree, which spans ±{} m at resolution {} m",
+                                        o.slice_z, probe.node_size(0) / 2, o.resolution));
     }
   }
-
-  OccupancyOctree tree(o.resolution);
-  if (!o.slice.empty() && !tree.key_of(Eigen::Vector3d(0.0, 0.0, o.slice_z))) {
-    throw InvalidArgument(fmt::format("--slice-z = {}: outside the octree, which spans ±{} m at resolution {} m",
-                                      o.slice_z, tree.node_size(0) / 2, o.resolution));
-  }
-  OctreeInsertOptions io;
-  io.max_range = o.max_range;
-  io.mode = parse_mode(o.mode);
-  io.arithmetic = o.arithmetic == "octomap" ? OctreeRayArithmetic::OctoMap : OctreeRayArithmetic::Double;
-  io.skip_invalid_points = true;
-  io.num_threads = threads;
-  std::size_t points = 0, skipped = 0;
-  OctreeColorMean means(o.resolution);
-  ColorSummary colors;
-  const Stopwatch clock;
-  for (std::size_t i = 0; i < o.inputs.size(); ++i) {
-    throw_if_interrupted();
-    const Scan s = read_scan(o, i, poses);
-    const OctreeInsertResult r = insert_scan(tree, s, io, o.color, means, colors);
-    points += r.points;
-    skipped += r.skipped_points;
-  }
-  if (means.cells() > 0) colors.leaves = means.apply(tree);
-  const double seconds = clock.elapsed();
+  const OctreeBuildResult r = build_octree(o.inputs, bo, o.poses);
+  const OccupancyOctree& tree = r.tree;
 
   std::vector<std::string> written{o.output};
-  write_octree(o.output, tree, out_ext == ".bt" ? OctreeFileFormat::Binary : OctreeFileFormat::Full,
-               OctreeBinaryContent::MaxLikelihood);
+  std::vector<Issue> issues;
+  for (const auto& i : r.issues) issues.push_back({i.code, i.message});
+  for (const auto& i : write_built_octree(o.output, r)) issues.push_back({i.code, i.message});
   if (!o.ply.empty() || !o.pcd.empty()) {
     const PointCloud occupied = octree_occupied_cloud(tree);
     if (!o.ply.empty()) {
@@ -282,35 +186,18 @@ void run_build(const OctomapBuildOptions& o) {
     written.push_back(f.yaml);
   }
 
-  std::size_t leaves = 0, occupied = 0;
-  tree.for_each_leaf([&](const OctreeLeaf& l) {
-    ++leaves;
-    occupied += tree.is_occupied(l.log_odds) ? 1 : 0;
-  });
-  std::vector<Issue> issues;
-  if (skipped > 0) {
-    issues.push_back({"skipped-points", fmt::format("{} of {} points were not finite or outside the octree and "
-                                                    "were skipped",
-                                                    skipped, points)});
-  }
-  if (tree.empty()) issues.push_back({"empty-map", "no point was inserted: the octree is empty"});
-  if (colors.clouds > 0 && out_ext == ".bt") {
-    issues.push_back({"colors-not-written", fmt::format("{} holds no colours (OctoMap's .bt keeps occupancy only): "
-                                                        "write .ot for a ColorOcTree, or give --color none",
-                                                        printable(o.output))});
-  }
   if (o.json) {
-    write_summary_json(o, tree, points, skipped, occupied, leaves, colors, seconds, written, issues);
+    write_summary_json(o, r, written, issues);
   } else {
-    fmt::print("octree: {} clouds, {} points ({} skipped), resolution {} m, mode {}\n", o.inputs.size(), points,
-               skipped, o.resolution, o.mode);
-    fmt::print("nodes: {} ({} leaves, {} occupied), {:.1f} MB\n", tree.num_nodes(), leaves, occupied,
+    fmt::print("octree: {} clouds, {} points ({} skipped), resolution {} m, mode {}\n", o.inputs.size(), r.points,
+               r.skipped_points, o.resolution, o.mode);
+    fmt::print("nodes: {} ({} leaves, {} occupied), {:.1f} MB\n", tree.num_nodes(), r.leaves, r.occupied_leaves,
                static_cast<double>(tree.memory_usage()) / 1048576.0);
-    if (colors.clouds > 0) {
-      fmt::print("colours: {} ({} clouds, {} points{})\n", o.color, colors.clouds, colors.points,
-                 o.color == "mean" ? fmt::format(", {} leaves", colors.leaves) : "");
+    if (r.colors.clouds > 0) {
+      fmt::print("colours: {} ({} clouds, {} points{})\n", o.color, r.colors.clouds, r.colors.points,
+                 o.color == "mean" ? fmt::format(", {} leaves", r.colors.mean_leaves) : "");
     }
-    fmt::print("time: {:.3f} s\n", seconds);
+    fmt::print("time: {:.3f} s\n", r.seconds);
     for (const auto& w : written) fmt::print("wrote {}\n", printable(w));
     fmt::print("issues: {}\n", issues.empty() ? "none" : std::to_string(issues.size()));
   }
