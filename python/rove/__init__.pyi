@@ -312,3 +312,38 @@ def rgbd_slam(input: _Path, config: Optional[_Path] = ..., overrides: _Overrides
               preset: str = ..., camera: str = ..., depth_scale: Optional[float] = ...,
               max_frames: Optional[int] = ...,
               on_frame: Optional[Callable[[dict[str, Any]], None]] = ...) -> SimpleNamespace: ...
+
+_Trajectory = Union[_Path, _Array]
+def eval_ate(reference: _Trajectory, estimate: _Trajectory, format: str = ..., align: str = ...,
+             max_dt: float = ..., offset: float = ...) -> SimpleNamespace: ...
+def eval_rpe(reference: _Trajectory, estimate: _Trajectory, format: str = ..., delta: float = ...,
+             unit: str = ..., align: str = ..., max_dt: float = ...,
+             offset: float = ...) -> SimpleNamespace: ...
+def eval_relations(estimate: _Trajectory, relations: Union[_Path, _Array], format: str = ...,
+                   max_dt: float = ..., log: Optional[_Path] = ...) -> SimpleNamespace: ...
+
+_Pose2 = Union[SE2, Sequence[float]]
+def nav_plan(map: Union[_Path, OccupancyGrid], start: _Pose2, goal: _Pose2, method: str = ...,
+             robot_radius: float = ..., occupancy_threshold: float = ..., min_step: float = ...,
+             max_length: float = ..., clearance_weight: float = ...,
+             clearance_distance: float = ..., simplify: bool = ...,
+             smooth: int = ...) -> SimpleNamespace: ...
+def nav_run(map: Union[_Path, OccupancyGrid], start: _Pose2, goal: _Pose2, planner: str = ...,
+            config: Optional[_Path] = ..., robot_radius: float = ..., max_v: float = ...,
+            max_w_deg: float = ..., max_time: float = ..., occupancy_threshold: float = ...,
+            seed: int = ..., rawlog: Optional[_Path] = ...,
+            on_frame: Optional[Callable[[dict[str, Any]], None]] = ...) -> SimpleNamespace: ...
+
+def octomap_build(clouds: Union[_Path, Sequence[_Path]], output: Optional[_Path] = ...,
+                  resolution: float = ..., origin: Optional[Sequence[float]] = ...,
+                  poses: Optional[Union[_Path, _Array]] = ..., max_range: float = ...,
+                  mode: str = ..., arithmetic: str = ..., threads: int = ..., color: str = ...,
+                  on_cloud: Optional[Callable[[int], None]] = ...) -> SimpleNamespace: ...
+def map_build(config: _Path, input: _Path, out: Optional[_Path] = ..., section: str = ...,
+              on_progress: Optional[Callable[[int], None]] = ...) -> SimpleNamespace: ...
+
+def rawlog_convert(input: _Path, output: _Path, layout: Optional[int] = ..., gzip: bool = ...,
+                   max_range: Optional[float] = ..., topics: Sequence[str] = ...,
+                   compression: str = ...,
+                   on_progress: Optional[Callable[[dict[str, Any]], None]] = ...) -> SimpleNamespace: ...
+def _has_ros() -> bool: ...

@@ -107,6 +107,23 @@ Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> matrix_ar
   return m;
 }
 
+py::object namespace_of(const py::dict& d) {
+  return py::module_::import("types").attr("SimpleNamespace")(**d);
+}
+
+py::array_t<double> tum_rows(const std::vector<StampedPose3>& poses) {
+  py::array_t<double> a({static_cast<py::ssize_t>(poses.size()), py::ssize_t{8}});
+  auto r = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const auto k = static_cast<py::ssize_t>(i);
+    const Eigen::Vector3d& t = poses[i].pose.translation();
+    const Eigen::Quaterniond q(poses[i].pose.rotation().matrix());
+    const double row[8] = {poses[i].time, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+    for (int c = 0; c < 8; ++c) r(k, c) = row[c];
+  }
+  return a;
+}
+
 void StepHook::operator()(const std::function<py::object()>& make) {
   if (error_) throw CallbackFailed();
   py::gil_scoped_acquire gil;

@@ -18,6 +18,7 @@
 
 #include "rove/core/error.h"
 #include "rove/core/ini.h"
+#include "rove/io/trajectory_files.h"
 #include "rove/obs/timestamp.h"
 
 namespace rove::python {
@@ -36,6 +37,10 @@ void bind_registration(py::module_& m);
 void bind_graph(py::module_& m);
 void bind_slam(py::module_& m);
 void bind_filters(py::module_& m);
+void bind_eval(py::module_& m);
+void bind_nav(py::module_& m);
+void bind_mapping(py::module_& m);
+void bind_rawlog_tools(py::module_& m);
 /// rove.rgbd_slam, when rove was built with rove::vision (else nothing).
 void bind_rgbd(py::module_& m);
 
@@ -75,6 +80,14 @@ PointsArg points_arg(py::handle obj, const char* name, bool require_finite);
 /// when `require_finite`).
 Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> matrix_arg(
     py::handle obj, const char* name, Eigen::Index cols, bool require_finite);
+
+/// A types.SimpleNamespace with the items of `d` as attributes (the results
+/// of the pipelines: plain values that pickle).
+py::object namespace_of(const py::dict& d);
+
+/// An (N, 8) float64 array of TUM rows t x y z qx qy qz qw (seconds,
+/// meters, the unit quaternion of T_world_body's rotation).
+py::array_t<double> tum_rows(const std::vector<StampedPose3>& poses);
 
 /// Raises TypeError with the message (for use where pybind11 would not).
 [[noreturn]] void type_error(const std::string& message);

@@ -19,10 +19,6 @@ namespace rove::python {
 
 namespace {
 
-py::object namespace_of(const py::dict& d) {
-  return py::module_::import("types").attr("SimpleNamespace")(**d);
-}
-
 Eigen::Vector3d xyphi(const SE2d& T) {
   return {T.translation().x(), T.translation().y(), T.angle()};
 }

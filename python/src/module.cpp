@@ -14,5 +14,9 @@ PYBIND11_MODULE(_rove, m) {
   rove::python::bind_graph(m);
   rove::python::bind_slam(m);
   rove::python::bind_filters(m);
+  rove::python::bind_eval(m);
+  rove::python::bind_nav(m);
+  rove::python::bind_mapping(m);
+  rove::python::bind_rawlog_tools(m);
   rove::python::bind_rgbd(m);
 }

@@ -34,19 +34,6 @@ RgbdSlamOptions rgbd_options(const std::optional<Path>& config, py::handle overr
   return o;
 }
 
-// (N, 8) rows t x y z qx qy qz qw (TUM's order).
-py::array_t<double> tum_rows(const std::vector<StampedPose3>& poses) {
-  py::array_t<double> a({static_cast<py::ssize_t>(poses.size()), py::ssize_t{8}});
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const auto r = static_cast<py::ssize_t>(i);
-    const Eigen::Vector3d& t = poses[i].pose.translation();
-    const Eigen::Quaterniond q(poses[i].pose.rotation().matrix());
-    const double row[8] = {poses[i].time, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
-    for (int c = 0; c < 8; ++c) a.mutable_at(r, c) = row[c];
-  }
-  return a;
-}
-
 py::object rgbd_slam(const Path& input, const std::optional<Path>& config, py::handle overrides,
                      const std::string& preset, const std::string& camera, std::optional<double> depth_scale,
                      std::optional<std::size_t> max_frames, py::object on_frame) {
@@ -86,7 +73,8 @@ py::object rgbd_slam(const Path& input, const std::optional<Path>& config, py::h
       py::arg("no_features") = st.no_features, py::arg("keyframes") = st.keyframes,
       py::arg("loop_checks") = st.loop_checks, py::arg("loops_accepted") = st.loops_accepted,
       py::arg("optimizations") = st.optimizations, py::arg("icp_edges") = st.icp_edges,
-      py::arg("icp_refused") = st.icp_refused);
+      py::arg("icp_refused") = st.icp_refused, py::arg("ba_points") = st.ba_points,
+      py::arg("ba_observations") = st.ba_observations, py::arg("ba_outliers") = st.ba_outliers);
   d["ate_rmse"] = r.ate ? py::cast(r.ate->translation.rmse) : py::none();
   d["ate_max"] = r.ate ? py::cast(r.ate->translation.max) : py::none();
   d["camera"] = seq.camera_source;

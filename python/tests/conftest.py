@@ -40,3 +40,20 @@ def run_cli_json(*args, expect=(0,)):
     """run_cli with --json; the parsed object."""
     _, out = run_cli(*args, "--json", expect=expect)
     return json.loads(out)
+
+
+def cli_error(*args, expect=(1,)):
+    """Runs the `rove` command line expecting it to fail; the first line of
+    rove's message on stderr (after "rove: error: "), for comparing with
+    the message of the Python exception raised on the same input."""
+    cli = os.environ.get("ROVE_CLI")
+    if not cli:
+        pytest.skip("the rove command line was not built (ROVE_BUILD_APPS=OFF)")
+    env = dict(os.environ)
+    env.pop("LD_PRELOAD", None)
+    proc = subprocess.run([cli, *map(str, args)], capture_output=True, text=True, env=env)
+    assert proc.returncode in expect, proc.stderr
+    line = proc.stderr.splitlines()[0]
+    prefix = "rove: error: "
+    assert line.startswith(prefix), proc.stderr
+    return line[len(prefix):]
