@@ -142,6 +142,7 @@ void write_stats(JsonWriter& j, const RgbdSlamStats& st, const RgbdSlamRunResult
   j.key("pnp").value(st.pnp_seconds).key("loop_closure").value(st.loop_seconds);
   j.key("graph").value(st.graph_seconds).key("map").value(st.map_seconds);
   j.key("octree").value(st.octree_seconds).key("icp").value(st.icp_seconds);
+  j.key("bundle_adjustment").value(st.ba_seconds);
   j.end_object();
 }
 
@@ -163,6 +164,19 @@ std::string summary_json(const RgbdSlamCliOptions& o, const RgbdSequence& seq, c
     j.key("termination").value(std::string(to_string(g->termination))).key("message").value(g->message);
     j.key("initial_chi2").value(g->initial_chi2).key("final_chi2").value(g->final_chi2);
     j.end_object();
+  }
+  j.key("bundle_adjustment");
+  if (const auto& b = slam.bundle_adjustment()) {
+    j.begin_object();
+    j.key("termination").value(std::string(to_string(b->termination))).key("message").value(b->message);
+    j.key("applied").value(b->improved()).key("iterations").value(b->iterations);
+    j.key("points").value(slam.stats().ba_points).key("observations").value(slam.stats().ba_observations);
+    j.key("outliers").value(b->outliers).key("conflicting_tracks").value(slam.stats().ba_conflicts);
+    j.key("initial_cost").value(b->initial_cost).key("final_cost").value(b->final_cost);
+    j.key("rmse_px").value(b->rmse_px);
+    j.end_object();
+  } else {
+    j.null();
   }
   if (r.ate) {
     j.key("ate").begin_object();
@@ -203,6 +217,14 @@ void print_report(const RgbdSlamCliOptions& o, const RgbdSequence& seq, const Rg
                st.icp_refused, st.icp_seconds);
   } else {
     fmt::print("  geometric edges (GICP of keyframe clouds): off (icp_voxel = 0)\n");
+  }
+  if (const auto& b = slam.bundle_adjustment()) {
+    fmt::print("  bundle adjustment: {} points, {} observations ({} outliers), image RMSE {:.2f} px, {}{}, "
+               "{:.3f} s\n",
+               st.ba_points, st.ba_observations, b->outliers, b->rmse_px, to_string(b->termination),
+               b->improved() ? "" : " (not applied)", st.ba_seconds);
+  } else {
+    fmt::print("  bundle adjustment: off\n");
   }
   fmt::print("  time: {:.1f} frames/s processing ({:.1f} with image reading); features {:.3f} s, "
              "matching {:.3f} s, PnP {:.3f} s, loops {:.3f} s, graph {:.3f} s, map {:.3f} s, reading {:.3f} s\n",

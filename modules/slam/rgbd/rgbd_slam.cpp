@@ -1,6 +1,8 @@
 #include "rove/slam/rgbd_slam.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numeric>
 #include <limits>
 #include <random>
 #include <utility>
@@ -50,11 +52,18 @@ struct PreviousFrame {
   RgbdFrame frame;
   SE3d T_keyframe_frame;
   Mat6 covariance = Mat6::Zero();  // of T_keyframe_frame, right tangent
+  std::vector<DescriptorMatch> inliers;  // PnP's: keyframe feature -> this frame's
+};
+
+// Features of two keyframes that PnP paired: one 3D point seen by both.
+struct FeaturePair {
+  std::uint32_t keyframe_a, feature_a, keyframe_b, feature_b;
 };
 
 // A pose estimate of `cur` against a reference frame.
 struct Attempt {
   PnpResult pnp;
+  std::vector<DescriptorMatch> used;  // the matches pnp was solved on
   std::size_t matches = 0;
   bool good = false;
   bool guided = false;
@@ -79,6 +88,40 @@ struct RgbdSlam::Impl {
   std::size_t consecutive_lost = 0;
   bool loop_added_since_optimization = false;
   std::vector<std::unique_ptr<PreparedCloud3D>> icp_clouds;  // per keyframe, when first needed
+  // Bundle adjustment's inputs (options.bundle_adjustment): the pairs PnP
+  // found between keyframes, and the relative poses measured otherwise.
+  std::vector<FeaturePair> feature_pairs;
+  std::vector<BaRelativePose> ba_relatives;
+  std::optional<BundleAdjustmentResult> last_ba;
+
+  // The inlier pairs of a PnP between keyframes `ref` and `cur`.
+  void record_pairs(std::size_t ref, std::size_t cur, const std::vector<DescriptorMatch>& inliers) {
+    if (!opt.bundle_adjustment) return;
+    for (const DescriptorMatch& m : inliers) {
+      feature_pairs.push_back({static_cast<std::uint32_t>(ref), m.query, static_cast<std::uint32_t>(cur), m.train});
+    }
+  }
+
+  void record_pairs(std::size_t ref, std::size_t cur, const Attempt& a) {
+    if (!opt.bundle_adjustment) return;
+    record_pairs(ref, cur, detail::pnp_inlier_matches(keyframes[ref].features, a.used, a.pnp));
+  }
+
+  // A relative pose for the bundle adjustment, its covariance (right
+  // tangent) floored as the graph's edges are.
+  void record_relative(std::size_t from, std::size_t to, const SE3d& T_from_to, const Mat6& covariance) {
+    if (!opt.bundle_adjustment) return;
+    Mat6 c = 0.5 * (covariance + covariance.transpose());
+    for (int k = 0; k < 3; ++k) {
+      c(k, k) += opt.edge_min_sigma_translation * opt.edge_min_sigma_translation;
+      c(k + 3, k + 3) += opt.edge_min_sigma_rotation * opt.edge_min_sigma_rotation;
+    }
+    const Eigen::LDLT<Mat6> ldlt(c);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) return;
+    Mat6 info = ldlt.solve(Mat6::Identity());
+    info = 0.5 * (info + info.transpose());
+    ba_relatives.push_back({from, to, T_from_to, info});
+  }
 
   const PreparedCloud3D& icp_cloud(std::size_t k) {
     if (icp_clouds.size() <= k) icp_clouds.resize(k + 1);
@@ -108,6 +151,7 @@ struct RgbdSlam::Impl {
     if (usable && r.ok() && r.goodness >= opt.icp_min_pairing && r.covariance.allFinite() &&
         motion_norm(guess.inverse() * r.T_target_source) <= opt.icp_max_correction) {
       add_edge(from, to, r.T_target_source, measured_information(r.covariance));
+      record_relative(from, to, r.T_target_source, r.covariance);
       ++stats.icp_edges;
     } else {
       ++stats.icp_refused;
@@ -141,6 +185,7 @@ struct RgbdSlam::Impl {
     PnpResult p = detail::solve_frame_pnp(ref, cur, m, camera, pnp);
     if (p.ok() && p.inliers.size() > a.pnp.inliers.size()) {
       a.pnp = std::move(p);
+      a.used = m;
       a.matches = m.size();
     }
   }
@@ -164,6 +209,7 @@ struct RgbdSlam::Impl {
       a.matches = m.size();
       if (m.size() >= opt.min_matches) {
         a.pnp = detail::solve_frame_pnp(ref, cur, m, camera, pnp);
+        a.used = m;
         a.good = acceptable(a.pnp, pnp.min_inliers, max_norm);
         a.guided = a.good;
       }
@@ -175,6 +221,7 @@ struct RgbdSlam::Impl {
       a.matches = m.size();
       if (m.size() >= opt.min_matches) {
         a.pnp = detail::solve_frame_pnp(ref, cur, m, camera, pnp);
+        a.used = m;
         a.good = acceptable(a.pnp, pnp.min_inliers, max_norm);
       }
       pnp_seconds += sw.lap();
@@ -272,6 +319,7 @@ struct RgbdSlam::Impl {
                                ignored_pnp);
     if (!r.good) return false;
     add_edge(from, to, r.pnp.T_camera_world, measured_information(r.pnp.covariance));
+    record_pairs(to, from, r);
     return true;
   }
 
@@ -293,6 +341,7 @@ struct RgbdSlam::Impl {
       const SE3d T_c_k = a.pnp.T_camera_world.inverse();
       add_edge(c, k, T_c_k,
                measured_information(detail::inverse_covariance(a.pnp.T_camera_world, a.pnp.covariance)));
+      record_pairs(c, k, a);
       add_reverse_edge(c, k, T_c_k);
       add_icp_edge(c, k, T_c_k);
       ++accepted;
@@ -310,6 +359,87 @@ struct RgbdSlam::Impl {
     last_opt = optimize(graph, go);
     ++stats.optimizations;
     stats.graph_seconds += sw.elapsed();
+  }
+
+  // Tracks from the feature pairs (union–find over (keyframe, feature)),
+  // then bundle adjustment of the keyframes and the tracks' points.
+  void bundle_adjust_keyframes() {
+    Stopwatch sw;
+    const std::size_t K = keyframes.size();
+    std::vector<std::size_t> offset(K + 1, 0);
+    for (std::size_t k = 0; k < K; ++k) offset[k + 1] = offset[k] + keyframes[k].features.keypoints.size();
+    std::vector<std::size_t> parent(offset[K]);
+    std::iota(parent.begin(), parent.end(), std::size_t{0});
+    auto find = [&](std::size_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    std::vector<bool> used(offset[K], false);
+    for (const FeaturePair& fp : feature_pairs) {
+      const std::size_t a = offset[fp.keyframe_a] + fp.feature_a, b = offset[fp.keyframe_b] + fp.feature_b;
+      used[a] = used[b] = true;
+      const std::size_t ra = find(a), rb = find(b);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    // Members of each track, in (keyframe, feature) order.
+    std::vector<std::vector<std::size_t>> members(offset[K]);
+    for (std::size_t n = 0; n < offset[K]; ++n) {
+      if (used[n]) members[find(n)].push_back(n);
+    }
+    BundleAdjustmentProblem p;
+    p.fx = std::abs(camera.fx);
+    p.fy = std::abs(camera.fy);
+    for (std::size_t k = 0; k < K; ++k) p.T_world_camera.push_back(graph.pose(k));
+    p.fixed.assign(K, false);
+    p.fixed[0] = true;
+    std::size_t conflicts = 0;
+    for (const std::vector<std::size_t>& track : members) {
+      if (track.size() < 2) continue;
+      std::vector<std::size_t> kf(track.size());
+      for (std::size_t i = 0; i < track.size(); ++i) {
+        kf[i] = static_cast<std::size_t>(std::upper_bound(offset.begin(), offset.end(), track[i]) - offset.begin()) - 1;
+      }
+      if (std::adjacent_find(kf.begin(), kf.end()) != kf.end()) {
+        ++conflicts;  // two features of one keyframe: a wrong pairing somewhere
+        continue;
+      }
+      const std::size_t point = p.points_world.size();
+      bool placed = false;
+      for (std::size_t i = 0; i < track.size(); ++i) {
+        const detail::FrameFeatures& f = keyframes[kf[i]].features;
+        const std::size_t feat = track[i] - offset[kf[i]];
+        const Eigen::Vector3d& pc = f.points[feat];
+        if (!placed && std::isfinite(pc.z())) {
+          p.points_world.push_back(p.T_world_camera[kf[i]] * pc);
+          placed = true;
+        }
+        BaObservation o;
+        o.camera = kf[i];
+        o.point = point;
+        o.normalized = camera.unproject(f.keypoints[feat].u, f.keypoints[feat].v).head<2>();
+        o.sigma_px = std::pow(opt.orb.scale_factor, f.keypoints[feat].octave);
+        if (std::isfinite(pc.z())) {
+          o.inverse_depth = 1.0 / pc.z();
+          o.sigma_inverse_depth = opt.ba_inverse_depth_sigma;
+        }
+        p.observations.push_back(o);
+      }
+      if (!placed) {
+        p.observations.resize(p.observations.size() - track.size());
+      }
+    }
+    p.relative_poses = ba_relatives;
+    BundleAdjustmentOptions bo;
+    bo.max_iterations = opt.ba_iterations;
+    last_ba = bundle_adjust(p, bo);
+    if (last_ba->improved()) {
+      for (std::size_t k = 0; k < K; ++k) graph.set_pose(k, p.T_world_camera[k]);
+    }
+    stats.ba_points = last_ba->points_adjusted;
+    stats.ba_observations = p.observations.size();
+    stats.ba_outliers = last_ba->outliers;
+    stats.ba_conflicts = conflicts;
+    stats.ba_seconds += sw.elapsed();
   }
 
   SE3d frame_pose(std::size_t i) const {
@@ -330,6 +460,7 @@ struct RgbdSlam::Impl {
     frames[p.index].keyframe = id;
     frames[p.index].T_keyframe_frame = SE3d();
     frames[p.index].status = RgbdFrameStatus::Keyframe;
+    record_pairs(from, id, p.inliers);
     add_reverse_edge(from, id, p.T_keyframe_frame);
     close_loops(id);
     return id;
@@ -383,7 +514,9 @@ struct RgbdSlam::Impl {
     const bool make_keyframe = motion_norm(T_kf_cur) > opt.keyframe_threshold ||
                                (opt.keyframe_min_inliers > 0 && u.inliers < opt.keyframe_min_inliers);
     if (!make_keyframe) {
-      previous = PreviousFrame{index, time, std::move(f), frame, T_kf_cur, cov};
+      std::vector<DescriptorMatch> inliers;
+      if (opt.bundle_adjustment) inliers = detail::pnp_inlier_matches(keyframes[kf].features, a.used, a.pnp);
+      previous = PreviousFrame{index, time, std::move(f), frame, T_kf_cur, cov, std::move(inliers)};
       return u;
     }
     previous.reset();
@@ -393,6 +526,7 @@ struct RgbdSlam::Impl {
     rec.T_keyframe_frame = SE3d();
     rec.status = RgbdFrameStatus::Keyframe;
     u.status = RgbdFrameStatus::Keyframe;
+    record_pairs(kf, id, a);
     add_reverse_edge(kf, id, T_kf_cur);
     u.loops_accepted = close_loops(id);
     T_world_last = graph.pose(id);
@@ -411,6 +545,7 @@ struct RgbdSlam::Impl {
                                         from, T_from_new, measured_information(cov));
     frames[index].keyframe = id;
     frames[index].T_keyframe_frame = SE3d();
+    record_relative(from, id, T_from_new, cov);
     ++stats.weak_edges;
     consecutive_lost = 0;
     velocity = SE3d();
@@ -487,9 +622,17 @@ RgbdFrameUpdate RgbdSlam::process(const RgbdFrame& frame, double time) {
 }
 
 std::optional<GraphOptimizerResult> RgbdSlam::finish() {
-  if (impl_->stats.loops_accepted == 0) return std::nullopt;
-  impl_->optimize_graph();
-  return impl_->last_opt;
+  std::optional<GraphOptimizerResult> r;
+  if (impl_->stats.loops_accepted > 0) {
+    impl_->optimize_graph();
+    r = impl_->last_opt;
+  }
+  if (impl_->opt.bundle_adjustment && impl_->keyframes.size() >= 2) impl_->bundle_adjust_keyframes();
+  return r;
+}
+
+const std::optional<BundleAdjustmentResult>& RgbdSlam::bundle_adjustment() const noexcept {
+  return impl_->last_ba;
 }
 
 std::size_t RgbdSlam::num_frames() const noexcept { return impl_->frames.size(); }

@@ -32,6 +32,10 @@ void add_count_issues(const RgbdSlam& slam, const RgbdSequence& sequence, RgbdSl
                                     "time difference and were left out",
                                     sequence.unassociated_color)});
   }
+  if (const auto& b = slam.bundle_adjustment(); b && !b->ok()) {
+    r.issues.push_back({"not-converged", std::string("the bundle adjustment stopped") +
+                                             (b->improved() ? "" : " and was not applied") + ": " + b->message});
+  }
   if (r.final_optimization && !r.final_optimization->ok()) {
     r.issues.push_back({"not-converged", "the final pose-graph optimization stopped: " +
                                              r.final_optimization->message});

@@ -185,6 +185,22 @@ PnpResult solve_frame_pnp(const FrameFeatures& ref, const FrameFeatures& cur,
   return solve_pnp_ransac(points, pixels, camera, options);
 }
 
+std::vector<DescriptorMatch> pnp_inlier_matches(const FrameFeatures& ref,
+                                                const std::vector<DescriptorMatch>& matches,
+                                                const PnpResult& pnp) {
+  std::vector<DescriptorMatch> used;
+  used.reserve(matches.size());
+  for (const DescriptorMatch& m : matches) {
+    if (std::isfinite(ref.points[m.query].z())) used.push_back(m);
+  }
+  std::vector<DescriptorMatch> out;
+  out.reserve(pnp.inliers.size());
+  for (const std::size_t i : pnp.inliers) {
+    if (i < used.size()) out.push_back(used[i]);
+  }
+  return out;
+}
+
 Eigen::Matrix<double, 6, 6> inverse_covariance(const SE3d& T,
                                                const Eigen::Matrix<double, 6, 6>& covariance) {
   const Eigen::Matrix<double, 6, 6> A = T.Adj();

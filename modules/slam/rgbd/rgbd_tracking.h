@@ -57,6 +57,12 @@ PnpResult solve_frame_pnp(const FrameFeatures& ref, const FrameFeatures& cur,
                           const std::vector<DescriptorMatch>& matches, const PinholeCamera& camera,
                           const PnpOptions& options);
 
+// The matches PnP kept as inliers: `matches` filtered as solve_frame_pnp
+// filters them (ref points with depth), indexed by pnp.inliers.
+std::vector<DescriptorMatch> pnp_inlier_matches(const FrameFeatures& ref,
+                                                const std::vector<DescriptorMatch>& matches,
+                                                const PnpResult& pnp);
+
 // Covariance of T⁻¹ over its right tangent from the covariance of T over
 // its right tangent: T⁻¹ = T̂⁻¹·exp(−Ad(T̂)·ξ).
 Eigen::Matrix<double, 6, 6> inverse_covariance(const SE3d& T,

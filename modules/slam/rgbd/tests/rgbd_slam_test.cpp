@@ -60,6 +60,36 @@ TEST(RgbdSlam, FollowsARenderedRoomAndClosesTheLoop) {
   EXPECT_EQ(off, 0u);
 }
 
+TEST(RgbdSlam, BundleAdjustmentOfTheRenderedRoomKeepsEveryFrameOnItsTruePose) {
+  const PinholeCamera cam = test_camera();
+  RgbdSlamOptions o;
+  o.bundle_adjustment = true;
+  RgbdSlam slam(cam, o);
+  constexpr std::size_t kFrames = 30;
+  for (std::size_t i = 0; i < kFrames; ++i) slam.process(render(cam, true_pose(i, kFrames)), 0.1 * static_cast<double>(i));
+  slam.finish();
+  const auto& ba = slam.bundle_adjustment();
+  ASSERT_TRUE(ba.has_value());
+  EXPECT_TRUE(ba->ok()) << ba->message;
+  const RgbdSlamStats& st = slam.stats();
+  EXPECT_GT(st.ba_points, 200u);
+  EXPECT_GE(st.ba_observations, 2 * st.ba_points);
+  EXPECT_LT(st.ba_outliers, st.ba_observations / 10);
+  EXPECT_LT(ba->rmse_px, 1.0);  // corners on whole pixels: about half a pixel
+  const SE3d T0 = true_pose(0, kFrames);
+  for (std::size_t i = 0; i < kFrames; ++i) {
+    const SE3d err = (T0.inverse() * true_pose(i, kFrames)).inverse() * slam.frame_pose(i);
+    EXPECT_LT(err.translation().norm(), 0.02) << "frame " << i;
+    EXPECT_LT(angle_of(err), 0.006) << "frame " << i;
+  }
+  // Off by default: no adjustment, no tracks kept.
+  RgbdSlam plain(cam);
+  plain.process(render(cam, true_pose(0, kFrames)), 0.0);
+  plain.process(render(cam, true_pose(1, kFrames)), 0.1);
+  plain.finish();
+  EXPECT_FALSE(plain.bundle_adjustment().has_value());
+}
+
 // Distance from p (world) to the nearest of the room's planes.
 double distance_to_room(const Eigen::Vector3d& p) {
   double d = std::numeric_limits<double>::infinity();

@@ -32,6 +32,7 @@
 #include <string_view>
 #include <vector>
 
+#include "rove/graph/bundle_adjustment.h"
 #include "rove/graph/optimizer.h"
 #include "rove/graph/pose_graph.h"
 #include "rove/maps/occupancy_octree.h"
@@ -118,6 +119,11 @@ struct RgbdSlamStats {
   double icp_seconds = 0.0;      ///< GICP edges (clouds prepared, registration)
   double map_seconds = 0.0;      ///< keyframe clouds and the final voxel filter
   double octree_seconds = 0.0;   ///< the octree map (map_octree)
+  std::size_t ba_points = 0;       ///< bundle adjustment: tracks (3D points) adjusted
+  std::size_t ba_observations = 0; ///< their observations by keyframes
+  std::size_t ba_outliers = 0;     ///< observations dropped as outliers
+  std::size_t ba_conflicts = 0;    ///< tracks left out: one keyframe saw them at two features
+  double ba_seconds = 0.0;         ///< tracks built and the adjustment
 };
 
 /// The RGB-D SLAM pipeline (see the file comment). Not thread-safe.
@@ -134,9 +140,16 @@ class RgbdSlam {
   /// equal to the camera's when it states one; 8-bit color.
   RgbdFrameUpdate process(const RgbdFrame& frame, double time);
 
-  /// Optimizes the pose graph once more (after the last frame) when it has
-  /// loop closures; returns that optimization, if any.
+  /// After the last frame: optimizes the pose graph once more when it has
+  /// loop closures, then, with options.bundle_adjustment, adjusts the
+  /// keyframes and the tracks of their features together (see
+  /// RgbdSlamOptions::bundle_adjustment) and gives the keyframes its poses
+  /// when it improved on the graph's (BundleAdjustmentResult::improved).
+  /// Returns the graph's optimization, if any; bundle_adjustment() holds the
+  /// adjustment's result.
   std::optional<GraphOptimizerResult> finish();
+  /// The bundle adjustment of finish(), when it ran.
+  const std::optional<BundleAdjustmentResult>& bundle_adjustment() const noexcept;
 
   /// Frames processed.
   std::size_t num_frames() const noexcept;
