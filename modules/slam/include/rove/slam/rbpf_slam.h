@@ -57,11 +57,13 @@ enum class RbpfProposal : std::uint8_t {
   /// proposal p(x | x_{t−1}, u, z, m) ∝ p(z | x, m)·p(x | x_{t−1}, u)
   /// approximated as Grisetti et al. 2007 (§IV, eq. 18–20): the scan is
   /// matched against the particle's map from the odometry prediction (hill
-  /// climbing on the likelihood field plus the motion prior) to find the
-  /// mode x*, K = pfAuxFilterOptimal_MaximumSearchSamples poses are drawn
-  /// around it, a Gaussian N(μ, Σ) is fitted to them weighted by
-  /// p(z | x, m)·p(x | x_{t−1}, u), the new pose is drawn from it, and the
-  /// weight is multiplied by η = ∫ p(z | x, m)·p(x | x_{t−1}, u) dx. Where
+  /// climbing on the likelihood field plus the motion prior, with the
+  /// LF_decimation points, then refined with every point of the scan) to
+  /// find the mode x*, K = pfAuxFilterOptimal_MaximumSearchSamples poses
+  /// are drawn around it, the covariance Σ of them weighted by
+  /// p(z | x, m)·p(x | x_{t−1}, u) is found, the new pose is drawn from
+  /// N(x*, Σ), and the weight is multiplied by
+  /// η = ∫ p(z | x, m)·p(x | x_{t−1}, u) dx. Where
   /// Grisetti samples a fixed interval around x*, rove draws the K poses
   /// by defensive importance sampling (Hesterberg, Technometrics 37(2),
   /// 1995): half from a Gaussian of one cell around x*, half from the
