@@ -109,32 +109,32 @@ Proposal propose_optimal(const RbpfParticle& p, const UpdateContext& c, Rng& rng
   // sure to be below floor (the likelihood field stops early).
   // The poses evaluated lie close together: their points fall in the same
   // cells of the particle's map again and again (the values are the same
-  // as without the memo).
-  thread_local TiledDistanceMemo memo;
-  const auto target_of = [&](const TiledScanPoints& points) {
-    return [&p, &c, pts = &points](const Vec3& v, double floor) {
+  // as without the memo). One memo per point set: its windows follow the
+  // points' order.
+  thread_local TiledDistanceMemo memo, memo_every;
+  const auto target_of = [&](const TiledScanPoints& points, TiledDistanceMemo& m) {
+    return [&p, &c, pts = &points, mm = &m](const Vec3& v, double floor) {
       const double prior = c.prior.log_density(v);
       return c.field.log_likelihood_above(p.map, *pts, apply_increment(p.pose, v), floor - prior,
-                                          memo) +
+                                          *mm) +
              prior;
     };
   };
-  // The mode: a climb on the likelihood of the LF_decimation points, then
-  // a refinement on every point of the scan from there (as GMapping's
-  // matcher uses every beam). The likelihood of one in LF_decimation
-  // points (45 of the Intel log's 180) is constant while they stay in
-  // their cells, and on such a plateau the motion prior decides. The Intel
-  // log's odometry turns 1.3° too far per update; the climb kept −0.29°
-  // of that per update (std 1.1°, against rove lidar-slam's path) and the
-  // corridors bent. The sum over every point changes within a cell: the
-  // whole run's heading error per update went from −0.19° ± 1.52° to
-  // 0.00° ± 0.95° (docs/filter-slam.md).
+  // The mode: a climb on the likelihood of the LF_decimation points in
+  // steps of 2 and 1 cells, then on every point of the scan in steps of 1
+  // and ½ cell (GMapping's matcher, too, uses every beam). The likelihood
+  // of one in LF_decimation points (45 of the Intel log's 180) is constant
+  // while they stay in their cells, and on such a plateau the motion prior
+  // decides. The Intel log's odometry turns 1.3° too far per update; the
+  // climb kept −0.29° of that per update (std 1.1°, against rove
+  // lidar-slam's path) and the corridors bent. The sum over every point
+  // changes within a cell: over the whole run the heading error per update
+  // went from −0.19° ± 1.52° to 0.00° ± 0.89° (docs/filter-slam.md).
   memo.clear();
-  const Vec3 coarse = climb(target_of(c.points), c.prior.mean, 2.0 * c.match_std, 4);
-  memo.clear();  // the memo's windows follow the points' order
-  const Vec3 mode = climb(target_of(c.every_point), coarse, c.match_std, 3);
-  memo.clear();
-  const auto target = target_of(c.points);
+  memo_every.clear();
+  const auto target = target_of(c.points, memo);
+  const Vec3 coarse = climb(target, c.prior.mean, 2.0 * c.match_std, 2);
+  const Vec3 mode = climb(target_of(c.every_point, memo_every), coarse, c.match_std, 2);
   const Mat3 floor = diag_sq(0.25 * c.match_std);
   const Gaussian3 around = Gaussian3::of(mode, diag_sq(c.match_std));
   // Defensive importance sampling: half around the mode, half from the

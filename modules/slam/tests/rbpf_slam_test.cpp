@@ -202,7 +202,7 @@ TEST(RbpfSlam, ClosesTheSimulatedLoop) {
 /// kept part of the bias (−0.29° per update against rove lidar-slam's path),
 /// and after the first loop, at step 5,000, the most likely particle was
 /// 10.8 m and 93° from lidar-slam's pose there (seed 1). The mode is now
-/// refined on every point of the scan: 0.37 m and 2.5°.
+/// refined on every point of the scan: 0.16 m and 1.2°.
 TEST(RbpfSlamDatasets, IntelFirstLoopDoesNotBend) {
   const std::string log = test_data::shared_dataset("radish/intel.clf.bz2");
   const RbpfSlamConfig config = load_rbpf_slam_config(IniFile::load(test::data_path("gridmapping_intel.ini")));
