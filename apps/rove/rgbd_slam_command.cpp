@@ -132,6 +132,7 @@ void write_stats(JsonWriter& j, const RgbdSlamStats& st, const RgbdSlamRunResult
   j.key("loop_checks").value(st.loop_checks).key("loops_accepted").value(st.loops_accepted);
   j.key("optimizations").value(st.optimizations);
   j.key("icp_edges").value(st.icp_edges).key("icp_refused").value(st.icp_refused);
+  j.key("tracking_rmse_px").value(st.tracking_rmse_px);
   const double fps = r.processing_seconds > 0 ? static_cast<double>(r.frames) / r.processing_seconds : 0.0;
   const double total = r.processing_seconds + r.read_seconds;
   j.key("frames_per_second").value(fps);
@@ -154,6 +155,7 @@ std::string summary_json(const RgbdSlamCliOptions& o, const RgbdSequence& seq, c
   j.key("input").value(o.input).key("format").value(std::string(to_string(seq.format)));
   j.key("config").value(o.config).key("preset").value(o.preset.empty() ? std::string("default") : o.preset);
   j.key("camera").value(seq.camera_source).key("depth_scale").value(seq.depth_scale);
+  j.key("rolling_shutter_readout").value(slam.options().rolling_shutter_readout.value_or(0.0));
   if (seq.format == RgbdSequenceFormat::Rawlog) {
     j.key("sensor_label").value(seq.sensor_label).key("other_sensor_scans").value(seq.other_sensor_scans);
   }
@@ -163,6 +165,8 @@ std::string summary_json(const RgbdSlamCliOptions& o, const RgbdSequence& seq, c
     j.key("last_optimization").begin_object();
     j.key("termination").value(std::string(to_string(g->termination))).key("message").value(g->message);
     j.key("initial_chi2").value(g->initial_chi2).key("final_chi2").value(g->final_chi2);
+    j.key("edges").value(g->num_edges_used);
+    j.key("chi2_per_edge").value(g->num_edges_used > 0 ? g->final_chi2 / static_cast<double>(g->num_edges_used) : 0.0);
     j.end_object();
   }
   j.key("bundle_adjustment");
@@ -206,10 +210,12 @@ void print_report(const RgbdSlamCliOptions& o, const RgbdSequence& seq, const Rg
                   const RgbdSlamRunResult& r, const std::optional<OctreeSummary>& octree,
                   const std::vector<std::string>& files) {
   const RgbdSlamStats& st = slam.stats();
-  fmt::print("rgbd-slam: {} frames of '{}' ({}, camera {})\n", r.frames, printable(o.input),
-             to_string(seq.format), printable(seq.camera_source));
-  fmt::print("  tracking: {} tracked, {} lost, {} without features; {} keyframes\n", st.tracked, st.lost,
-             st.no_features, st.keyframes);
+  const double readout = slam.options().rolling_shutter_readout.value_or(0.0);
+  fmt::print("rgbd-slam: {} frames of '{}' ({}, camera {}, {})\n", r.frames, printable(o.input),
+             to_string(seq.format), printable(seq.camera_source),
+             readout > 0.0 ? fmt::format("rolling shutter {:.1f} ms", 1000.0 * readout) : std::string("global shutter"));
+  fmt::print("  tracking: {} tracked, {} lost, {} without features; {} keyframes; reprojection RMSE {:.3f} px\n",
+             st.tracked, st.lost, st.no_features, st.keyframes, st.tracking_rmse_px);
   fmt::print("  loop closure: {} of {} checks accepted; {} optimizations\n", st.loops_accepted,
              st.loop_checks, st.optimizations);
   if (slam.options().icp_voxel > 0.0) {
@@ -259,7 +265,7 @@ void run(const RgbdSlamCliOptions& o) {
   if (!o.config.empty()) inputs.emplace_back(o.config);
   check_outputs_distinct(inputs, planned);
 
-  RgbdSlam slam(seq.camera, opt);
+  RgbdSlam slam(seq.camera, for_sequence(opt, seq));
   RgbdSlamRunOptions ro;
   ro.max_frames = o.max_frames;
   std::optional<Progress> progress;

@@ -42,7 +42,7 @@ py::object rgbd_slam(const Path& input, const std::optional<Path>& config, py::h
   so.depth_scale = depth_scale;
   const RgbdSequence seq = read_rgbd_sequence(input.string(), so);
   const RgbdSlamOptions opt = rgbd_options(config, overrides, preset);
-  RgbdSlam slam(seq.camera, opt);
+  RgbdSlam slam(seq.camera, for_sequence(opt, seq));
   RgbdSlamRunOptions ro;
   ro.max_frames = max_frames;
   StepHook hook(on_frame);

@@ -85,6 +85,10 @@ struct RgbdSlam::Impl {
   std::optional<PreviousFrame> previous;
   SE3d T_world_last;   // pose given to the last processed frame
   SE3d velocity;       // T_prev_cur of the last two tracked frames
+  double velocity_dt = 0.0;  // seconds between those frames
+  Eigen::Vector3d predicted_omega = Eigen::Vector3d::Zero();  // rad/s, the frame's features were corrected with
+  double tracking_sq_sum = 0.0;  // Σ squared reprojection errors of the tracking's PnP inliers
+  std::size_t tracking_inliers = 0;
   std::size_t consecutive_lost = 0;
   bool loop_added_since_optimization = false;
   std::vector<std::unique_ptr<PreparedCloud3D>> icp_clouds;  // per keyframe, when first needed
@@ -233,13 +237,25 @@ struct RgbdSlam::Impl {
     return a;
   }
 
-  PointCloud keyframe_cloud(const RgbdFrame& frame) {
+  PointCloud keyframe_cloud(const RgbdFrame& frame, const detail::FrameFeatures& f) {
     Stopwatch sw;
     RgbdCloudOptions co;
     co.min_depth = opt.min_depth;
     co.max_depth = opt.map_max_depth;
     co.stride = opt.map_stride;
     PointCloud c = voxel_downsample(rgbd_to_cloud(frame, camera, co), static_cast<float>(opt.voxel_grid));
+    const double readout = opt.rolling_shutter_readout.value_or(0.0);
+    if (readout > 0.0 && f.omega.squaredNorm() > 0.0 && frame.color.height > 0) {
+      // Each point carried from its row's time to the middle row's, as the
+      // features were (rove/slam/rgbd_slam_options.h).
+      const double h = static_cast<double>(frame.color.height);
+      for (std::size_t i = 0; i < c.size(); ++i) {
+        const Eigen::Vector3d p = c[i].cast<double>();
+        if (!(p.z() > 0.0)) continue;
+        const double v = camera.fy * p.y() / p.z() + camera.cy;
+        c[i] = (SO3d::exp(f.omega * ((v / h - 0.5) * readout)) * p).cast<float>();
+      }
+    }
     stats.map_seconds += sw.elapsed();
     return c;
   }
@@ -260,7 +276,8 @@ struct RgbdSlam::Impl {
                            double time, const SE3d& T_world_camera, std::size_t from,
                            const SE3d& T_from_new, const Mat6& info) {
     const std::size_t id = keyframes.size();
-    keyframes.push_back({index, time, std::move(f), keyframe_cloud(frame)});
+    PointCloud cloud = keyframe_cloud(frame, f);
+    keyframes.push_back({index, time, std::move(f), std::move(cloud)});
     graph.add_vertex(id, T_world_camera, id == 0);
     if (from != kNoKeyframe) {
       add_edge(from, id, T_from_new, info);
@@ -466,6 +483,32 @@ struct RgbdSlam::Impl {
     return id;
   }
 
+  // A keyframe whose features were described without an angular velocity
+  // (the first frame, or after lost frames) gets its rolling-shutter
+  // correction from the turn to the first frame tracked against it: its
+  // features and its cloud. (Refining every keyframe's correction by the
+  // turns into and out of it fed the errors of its pose back into its
+  // features and diverged on fast turns.)
+  void correct_keyframe_shutter(std::size_t kf, const SE3d& T_world_cur, double time) {
+    KeyframeData& k = keyframes[kf];
+    detail::FrameFeatures& f = k.features;
+    if (f.raw_keypoints.empty() || f.omega.squaredNorm() > 0.0 || !(time > k.time)) return;
+    const Eigen::Vector3d omega =
+        (graph.pose(kf).rotation().inverse() * T_world_cur.rotation()).log() / (time - k.time);
+    if (!(omega.squaredNorm() > 0.0)) return;
+    detail::correct_rolling_shutter(f, camera, opt, omega);
+    // The cloud: each point carried by its row's turn.
+    const double readout = opt.rolling_shutter_readout.value_or(0.0);
+    const double h = static_cast<double>(f.height);
+    for (std::size_t i = 0; i < k.cloud.size(); ++i) {
+      const Eigen::Vector3d p = k.cloud[i].cast<double>();
+      if (!(p.z() > 0.0)) continue;
+      const double dt = ((camera.fy * p.y() / p.z() + camera.cy) / h - 0.5) * readout;
+      k.cloud[i] = (SO3d::exp(omega * dt) * p).cast<float>();
+    }
+    if (kf < icp_clouds.size()) icp_clouds[kf].reset();
+  }
+
   RgbdFrameUpdate track(detail::FrameFeatures&& f, const RgbdFrame& frame, RgbdFrameUpdate u) {
     const std::size_t index = u.index;
     const double time = frames[index].time;
@@ -500,6 +543,10 @@ struct RgbdSlam::Impl {
       return u;
     }
     ++stats.tracked;
+    correct_keyframe_shutter(kf, graph.pose(kf) * a.pnp.T_camera_world.inverse(), time);
+    tracking_sq_sum += a.pnp.rmse_px * a.pnp.rmse_px * static_cast<double>(a.pnp.inliers.size());
+    tracking_inliers += a.pnp.inliers.size();
+    stats.tracking_rmse_px = std::sqrt(tracking_sq_sum / static_cast<double>(tracking_inliers));
     (a.guided ? stats.guided_tracked : stats.brute_force_tracked) += 1;
     consecutive_lost = 0;
     u.inliers = a.pnp.inliers.size();
@@ -507,6 +554,7 @@ struct RgbdSlam::Impl {
     const Mat6 cov = detail::inverse_covariance(a.pnp.T_camera_world, a.pnp.covariance);
     const SE3d T_world_cur = graph.pose(kf) * T_kf_cur;
     velocity = T_world_last.inverse() * T_world_cur;
+    velocity_dt = time - frames[index - 1].time;
     T_world_last = T_world_cur;
     rec.T_keyframe_frame = T_kf_cur;
     rec.status = RgbdFrameStatus::Tracked;
@@ -549,6 +597,7 @@ struct RgbdSlam::Impl {
     ++stats.weak_edges;
     consecutive_lost = 0;
     velocity = SE3d();
+    velocity_dt = 0.0;
     close_loops(id);
     T_world_last = graph.pose(id);
   }
@@ -557,7 +606,13 @@ struct RgbdSlam::Impl {
     RgbdFrameUpdate u;
     u.index = frames.size();
     Stopwatch sw;
-    detail::FrameFeatures f = detail::describe_frame(frame, camera, opt);
+    // The angular velocity of the last two frames, when both were tracked.
+    predicted_omega = velocity_dt > 0.0 && consecutive_lost == 0 && !frames.empty() &&
+                              (frames.back().status == RgbdFrameStatus::Tracked ||
+                               frames.back().status == RgbdFrameStatus::Keyframe)
+                          ? Eigen::Vector3d(velocity.rotation().log() / velocity_dt)
+                          : Eigen::Vector3d::Zero();
+    detail::FrameFeatures f = detail::describe_frame(frame, camera, opt, predicted_omega);
     stats.features_seconds += sw.elapsed();
     u.features = f.keypoints.size();
     ++stats.frames;

@@ -70,6 +70,9 @@ void read_loops(const ConfigSection& s, RgbdSlamOptions& o) {
   o.icp_max_distance = s.get_in_range("icp_max_distance", o.icp_max_distance, 1e-4, 10.0);
   o.icp_min_pairing = s.get_in_range("icp_min_pairing", o.icp_min_pairing, 0.0, 1.0);
   o.icp_max_correction = s.get_in_range("icp_max_correction", o.icp_max_correction, 0.0, 1e3);
+  if (s.has("rolling_shutter_readout")) {
+    o.rolling_shutter_readout = s.get_in_range("rolling_shutter_readout", 0.0, 0.0, 1.0);
+  }
   o.bundle_adjustment = s.get<bool>("bundle_adjustment", o.bundle_adjustment);
   o.ba_inverse_depth_sigma = s.get_in_range("ba_inverse_depth_sigma", o.ba_inverse_depth_sigma, 1e-6, 1e3);
   o.ba_iterations = static_cast<int>(get_count(s, "ba_iterations", static_cast<std::size_t>(o.ba_iterations), 1, 10000));
@@ -111,6 +114,7 @@ RgbdSlamOptions RgbdSlamOptions::tutorial() {
   o.loop_max_norm = 5.0;
   o.symmetric_edges = false;
   o.icp_voxel = 0.0;
+  o.rolling_shutter_readout = 0.0;
   o.depth_edge_step = 0.0;
   o.voxel_grid = 0.01;
   return o;
@@ -181,6 +185,9 @@ void RgbdSlamOptions::check() const {
   ROVE_CHECK_MSG(std::isfinite(ba_inverse_depth_sigma) && ba_inverse_depth_sigma > 0.0,
                  "ba_inverse_depth_sigma must be > 0, got {}", ba_inverse_depth_sigma);
   ROVE_CHECK_MSG(ba_iterations >= 1, "ba_iterations must be >= 1, got {}", ba_iterations);
+  ROVE_CHECK_MSG(!rolling_shutter_readout || (std::isfinite(*rolling_shutter_readout) &&
+                                               *rolling_shutter_readout >= 0.0 && *rolling_shutter_readout <= 1.0),
+                 "rolling_shutter_readout must be in [0, 1] s, got {}", rolling_shutter_readout.value_or(0.0));
   ROVE_CHECK_MSG(map_stride >= 1, "map_stride must be >= 1, got {}", map_stride);
   ROVE_CHECK_MSG(std::isfinite(voxel_grid) && voxel_grid > 0.0, "voxel_grid must be > 0, got {}", voxel_grid);
   ROVE_CHECK_MSG(std::isfinite(map_max_depth) && map_max_depth > 0.0,

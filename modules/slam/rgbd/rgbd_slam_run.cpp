@@ -73,6 +73,11 @@ class RawlogFrames {
 
 }  // namespace
 
+RgbdSlamOptions for_sequence(RgbdSlamOptions options, const RgbdSequence& sequence) {
+  if (!options.rolling_shutter_readout) options.rolling_shutter_readout = sequence.rolling_shutter_readout;
+  return options;
+}
+
 std::vector<StampedPose3> rgbd_trajectory(const RgbdSlam& slam) {
   std::vector<StampedPose3> out;
   out.reserve(slam.num_frames());

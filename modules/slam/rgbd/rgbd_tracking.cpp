@@ -75,7 +75,7 @@ double interpolated_depth(const DepthImage& depth, double u, double v, double mi
 }  // namespace
 
 FrameFeatures describe_frame(const RgbdFrame& frame, const PinholeCamera& camera,
-                             const RgbdSlamOptions& options) {
+                             const RgbdSlamOptions& options, const Eigen::Vector3d& omega) {
   FrameFeatures f;
   Features orb = extract_orb(frame.color, options.orb);
   f.keypoints = std::move(orb.keypoints);
@@ -105,8 +105,40 @@ FrameFeatures describe_frame(const RgbdFrame& frame, const PinholeCamera& camera
       f.points[i] = nan;
     }
   }
-  build_grid(f, frame.color.width, frame.color.height);
+  f.width = frame.color.width;
+  f.height = frame.color.height;
+  if (options.rolling_shutter_readout.value_or(0.0) > 0.0) {
+    f.raw_keypoints = f.keypoints;
+    f.raw_points = f.points;
+    correct_rolling_shutter(f, camera, options, omega);
+  } else {
+    build_grid(f, f.width, f.height);
+  }
   return f;
+}
+
+void correct_rolling_shutter(FrameFeatures& f, const PinholeCamera& camera, const RgbdSlamOptions& options,
+                             const Eigen::Vector3d& omega) {
+  if (f.raw_keypoints.size() != f.keypoints.size() || f.height == 0) return;
+  f.omega = omega;
+  // Row v was read (v/h − ½)·readout after the middle row: its ray, in the
+  // middle row's camera frame, is exp(ω·δt)·ray (rotation only: over a few
+  // milliseconds the camera's translation moves a pixel far less).
+  const double h = static_cast<double>(f.height);
+  for (std::size_t i = 0; i < f.keypoints.size(); ++i) {
+    const Keypoint& raw = f.raw_keypoints[i];
+    f.keypoints[i] = raw;
+    f.points[i] = f.raw_points[i];
+    const double dt = (raw.v / h - 0.5) * options.rolling_shutter_readout.value_or(0.0);
+    const SO3d R = SO3d::exp(omega * dt);
+    const Eigen::Vector3d ray = R * camera.unproject(raw.u, raw.v);
+    if (!(ray.z() > 1e-6)) continue;
+    const Eigen::Vector2d px = camera.project(ray);
+    f.keypoints[i].u = px.x();
+    f.keypoints[i].v = px.y();
+    if (std::isfinite(f.points[i].z())) f.points[i] = R * f.points[i];
+  }
+  build_grid(f, f.width, f.height);
 }
 
 std::vector<DescriptorMatch> match_guided(const FrameFeatures& ref, const FrameFeatures& cur,

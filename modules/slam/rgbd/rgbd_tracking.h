@@ -25,6 +25,12 @@ struct FrameFeatures {
   std::vector<OrbDescriptor> descriptors;
   // Camera-frame points, meters; NaN where the depth has no value in range.
   std::vector<Eigen::Vector3d> points;
+  // The image's size, and, with a rolling shutter, the keypoints and points
+  // as extracted (before correct_rolling_shutter).
+  std::uint32_t width = 0, height = 0;
+  std::vector<Keypoint> raw_keypoints;
+  std::vector<Eigen::Vector3d> raw_points;
+  Eigen::Vector3d omega = Eigen::Vector3d::Zero();  // rad/s, of the last correction
   // The features with a point: their descriptors and indices.
   std::vector<OrbDescriptor> descriptors3d;
   std::vector<std::uint32_t> index3d;
@@ -34,9 +40,19 @@ struct FrameFeatures {
   std::vector<std::uint32_t> cell_start, cell_items;
 };
 
-// Extracts and describes the features of a frame.
+// Extracts and describes the features of a frame. With a rolling shutter
+// (options.rolling_shutter_readout > 0) and the camera turning at
+// `omega` (rad/s, camera frame), each keypoint and its point are carried
+// from its row's time to the image's middle row's.
 FrameFeatures describe_frame(const RgbdFrame& frame, const PinholeCamera& camera,
-                             const RgbdSlamOptions& options);
+                             const RgbdSlamOptions& options,
+                             const Eigen::Vector3d& omega = Eigen::Vector3d::Zero());
+
+// Carries each keypoint and its point from its row's time to the middle
+// row's, the camera turning at `omega` (rad/s, camera frame), from the
+// extracted ones (a second call replaces the first's correction).
+void correct_rolling_shutter(FrameFeatures& f, const PinholeCamera& camera, const RgbdSlamOptions& options,
+                             const Eigen::Vector3d& omega);
 
 // Guided matching: each point of `ref` mapped by T_cur_ref and projected,
 // matched to the keypoints of `cur` within `radius_px` (best Hamming

@@ -212,6 +212,7 @@ void resolve_camera(RgbdSequence& s, const fs::path& folder, const RgbdSequenceO
     if (const auto named = named_camera(o.camera)) {
       s.camera = named->camera;
       s.depth_scale = named->depth_scale;
+      s.rolling_shutter_readout = named->rolling_shutter_readout;
       s.camera_source = o.camera;
     } else if (fs::exists(o.camera)) {
       set_camera_from_file(s, o.camera);
@@ -245,6 +246,7 @@ void resolve_camera(RgbdSequence& s, const fs::path& folder, const RgbdSequenceO
   const NamedCamera c = *named_camera(preset);
   s.camera = c.camera;
   s.depth_scale = c.depth_scale;
+  s.rolling_shutter_readout = c.rolling_shutter_readout;
   s.camera_source = preset;
 }
 
@@ -398,7 +400,7 @@ std::optional<NamedCamera> named_camera(std::string_view name) {
   if (name == "tum-fr1") {
     return NamedCamera{make_camera(517.306408, 516.469215, 318.643040, 255.313989,
                                    {0.262383, -0.953104, -0.005358, 0.002628, 1.163314}),
-                       5000.0};
+                       5000.0, 0.02};
   }
   if (name == "tum-fr2") {
     return NamedCamera{make_camera(520.908620, 521.007327, 325.141442, 249.701764,

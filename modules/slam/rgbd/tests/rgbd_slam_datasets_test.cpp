@@ -17,11 +17,12 @@
 namespace rove {
 namespace {
 
-TEST(RgbdSlamDatasets, TumFr1RpyAteWithinTwoAndAHalfCentimeters) {
+TEST(RgbdSlamDatasets, TumFr1RpyAteWithinTwoCentimeters) {
   const RgbdSequence seq = read_rgbd_sequence(test_data::shared_dataset("rgbd/tum_fr1_rpy"));
   ASSERT_EQ(seq.frames.size(), 205u);
   EXPECT_EQ(seq.camera_source, "tum-fr1");
-  RgbdSlam slam(seq.camera);
+  RgbdSlam slam(seq.camera, for_sequence({}, seq));
+  EXPECT_EQ(slam.options().rolling_shutter_readout, 0.02);
   const RgbdSlamRunResult r = run_rgbd_slam(slam, seq);
   ASSERT_TRUE(r.ate.has_value()) << r.ate_problem;
   const RgbdSlamStats& st = slam.stats();
@@ -33,21 +34,23 @@ TEST(RgbdSlamDatasets, TumFr1RpyAteWithinTwoAndAHalfCentimeters) {
               st.loop_checks, st.features_seconds, st.matching_seconds, st.pnp_seconds,
               st.loop_seconds, st.graph_seconds, st.map_seconds, r.read_seconds);
   EXPECT_EQ(r.ate->translation.count, 205u);
-  // Measured: 2.40 cm with the GICP edges, 2.62 cm without (the issue's
-  // target is 2.0 cm, not reached yet); 3 frames lost to motion blur
+  // Measured: 1.44 cm with fr1's rolling shutter (20 ms, calibrated without
+  // the ground truth: bench/run_rgbd_rolling_shutter.sh); 1.41-1.85 cm over
+  // seeds 1-6. The target is 2.0 cm. 3 frames lost to motion blur
   // (frames 113-115).
-  EXPECT_LE(r.ate->translation.rmse, 0.025);
+  EXPECT_LE(r.ate->translation.rmse, 0.020);
   EXPECT_LE(st.lost, 5u);
   EXPECT_GT(st.icp_edges, 2 * st.icp_refused);  // most keyframe pairs measured by depth too
 
-  // Without them (icp_voxel 0): worse, as measured.
-  RgbdSlamOptions no_icp;
-  no_icp.icp_voxel = 0.0;
-  RgbdSlam plain(seq.camera, no_icp);
+  // As a global shutter (readout 0): worse, as measured (2.40 cm; 2.38-2.49
+  // over seeds 1-6).
+  RgbdSlamOptions global;
+  global.rolling_shutter_readout = 0.0;
+  RgbdSlam plain(seq.camera, for_sequence(global, seq));
+  EXPECT_EQ(plain.options().rolling_shutter_readout, 0.0);
   const RgbdSlamRunResult p = run_rgbd_slam(plain, seq);
   ASSERT_TRUE(p.ate.has_value()) << p.ate_problem;
-  EXPECT_EQ(plain.stats().icp_edges + plain.stats().icp_refused, 0u);
-  EXPECT_GT(p.ate->translation.rmse, r.ate->translation.rmse + 0.001);
+  EXPECT_GT(p.ate->translation.rmse, r.ate->translation.rmse + 0.005);
 }
 
 TEST(RgbdSlamDatasets, IclNuimLivingRoomAgainstItsTruePoses) {

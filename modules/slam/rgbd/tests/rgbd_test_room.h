@@ -47,15 +47,18 @@ inline PinholeCamera test_camera() {
   return c;
 }
 
-// Renders the room seen from T_world_camera (depth 5000 per meter).
-inline RgbdFrame render(const PinholeCamera& cam, const SE3d& T_world_camera, bool textureless = false) {
+// Renders the room, row v seen from pose_of_row(v) (a rolling shutter when
+// it changes; depth 5000 per meter).
+template <class PoseOfRow>
+RgbdFrame render_rows(const PinholeCamera& cam, PoseOfRow pose_of_row, bool textureless = false) {
   RgbdFrame f;
   f.color = Image::zeros(cam.width, cam.height, 3, PixelType::U8);
   f.depth = DepthImage::zeros_u16(cam.width, cam.height, 5000.0);
   auto& depth = std::get<std::vector<std::uint16_t>>(f.depth.values);
-  const Eigen::Matrix3d R = T_world_camera.rotation_matrix();
-  const Eigen::Vector3d o = T_world_camera.translation();
   for (std::uint32_t v = 0; v < cam.height; ++v) {
+    const SE3d T_world_camera = pose_of_row(v);
+    const Eigen::Matrix3d R = T_world_camera.rotation_matrix();
+    const Eigen::Vector3d o = T_world_camera.translation();
     for (std::uint32_t u = 0; u < cam.width; ++u) {
       const Eigen::Vector3d ray_c = cam.unproject(u, v);
       const Eigen::Vector3d ray_w = R * ray_c;
@@ -81,10 +84,16 @@ inline RgbdFrame render(const PinholeCamera& cam, const SE3d& T_world_camera, bo
   return f;
 }
 
+// Renders the room seen from T_world_camera (depth 5000 per meter).
+inline RgbdFrame render(const PinholeCamera& cam, const SE3d& T_world_camera, bool textureless = false) {
+  return render_rows(cam, [&](std::uint32_t) { return T_world_camera; }, textureless);
+}
+
 // A path that pans, rolls and moves 20 cm, then comes back near the start.
-inline SE3d true_pose(std::size_t i, std::size_t n) {
-  const double s = std::sin(2.0 * M_PI * static_cast<double>(i) / static_cast<double>(n));
-  const double c = 1.0 - std::cos(2.0 * M_PI * static_cast<double>(i) / static_cast<double>(n));
+// `i` may be fractional (between frames).
+inline SE3d true_pose(double i, std::size_t n) {
+  const double s = std::sin(2.0 * M_PI * i / static_cast<double>(n));
+  const double c = 1.0 - std::cos(2.0 * M_PI * i / static_cast<double>(n));
   Eigen::Matrix<double, 6, 1> xi;
   xi << 0.10 * s, 0.03 * c, 0.08 * c, 0.05 * c, 0.25 * s, 0.06 * s;
   return SE3d::exp(xi);

@@ -73,6 +73,10 @@ std::vector<std::shared_ptr<const RangeImage3D>> range_images_of(const RawlogEnt
 struct NamedCamera {
   PinholeCamera camera;  ///< intrinsics (640×480)
   double depth_scale = 5000.0;  ///< depth image units per meter
+  /// Rolling shutter: seconds from reading the first row to the last; 0 for
+  /// a global shutter or a camera not measured. "tum-fr1": 0.02, calibrated
+  /// on fr1/rpy without its ground truth (docs/rgbd-slam.md).
+  double rolling_shutter_readout = 0.0;
 };
 /// See NamedCamera.
 std::optional<NamedCamera> named_camera(std::string_view name);
@@ -99,6 +103,7 @@ struct RgbdSequence {
   PinholeCamera camera;               ///< intrinsics of the color image
   double depth_scale = 5000.0;        ///< depth image units per meter
   std::string camera_source;          ///< where the camera came from (file or name)
+  double rolling_shutter_readout = 0.0;  ///< the named camera's (NamedCamera), else 0
   std::size_t unassociated_color = 0; ///< TUM: color images without a depth image in time
   /// Rawlog: the frames' sensor label, and the 3D range scans of other
   /// labels, left out.

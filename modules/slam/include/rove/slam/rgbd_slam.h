@@ -119,6 +119,7 @@ struct RgbdSlamStats {
   double icp_seconds = 0.0;      ///< GICP edges (clouds prepared, registration)
   double map_seconds = 0.0;      ///< keyframe clouds and the final voxel filter
   double octree_seconds = 0.0;   ///< the octree map (map_octree)
+  double tracking_rmse_px = 0.0;   ///< RMS of PnP's inlier reprojection errors over the tracked frames, pixels
   std::size_t ba_points = 0;       ///< bundle adjustment: tracks (3D points) adjusted
   std::size_t ba_observations = 0; ///< their observations by keyframes
   std::size_t ba_outliers = 0;     ///< observations dropped as outliers

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string_view>
 
 #include "rove/core/config_section.h"
@@ -117,6 +118,14 @@ struct RgbdSlamOptions {
   double icp_min_pairing = 0.5;
   double icp_max_correction = 0.1;
 
+  /// Rolling shutter: seconds from reading the image's first row to its
+  /// last (≥ 0; 0: a global shutter). Each keypoint (and its depth point)
+  /// is carried from its row's time to the middle row's by the camera's
+  /// turn at the angular velocity of the last two tracked frames. Unset:
+  /// the sequence's camera's (RgbdSequence::rolling_shutter_readout, set
+  /// by for_sequence in rgbd_slam_run.h; "tum-fr1": 0.02), and 0 for
+  /// RgbdSlam used alone. The tutorial's 0.
+  std::optional<double> rolling_shutter_readout;
   /// Bundle adjustment at the end of the run (RgbdSlam::finish,
   /// rove/graph/bundle_adjustment.h): the keyframes' features that PnP
   /// paired (tracking, the edges both ways, loop closures) are joined into

@@ -62,6 +62,10 @@ struct RgbdSlamRunResult {
 RgbdSlamRunResult run_rgbd_slam(RgbdSlam& slam, const RgbdSequence& sequence,
                                 const RgbdSlamRunOptions& options = {});
 
+/// `options` with what it leaves to the sequence filled from it: the
+/// rolling shutter's readout, when unset, from the sequence's camera.
+RgbdSlamOptions for_sequence(RgbdSlamOptions options, const RgbdSequence& sequence);
+
 /// The trajectory of every processed frame (T_world_camera at its time).
 std::vector<StampedPose3> rgbd_trajectory(const RgbdSlam& slam);
 
