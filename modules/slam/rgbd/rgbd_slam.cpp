@@ -12,6 +12,7 @@
 #include "rove/core/timer.h"
 #include "rove/maps/voxel_grid.h"
 #include "rove/registration/icp_3d.h"
+#include "rove/vision/place_recognition.h"
 
 namespace rove {
 namespace {
@@ -97,6 +98,7 @@ struct RgbdSlam::Impl {
   std::vector<FeaturePair> feature_pairs;
   std::vector<BaRelativePose> ba_relatives;
   std::optional<BundleAdjustmentResult> last_ba;
+  BinaryPlaceIndex places;  // the keyframes' descriptors (options.appearance_loops)
 
   // The inlier pairs of a PnP between keyframes `ref` and `cur`.
   void record_pairs(std::size_t ref, std::size_t cur, const std::vector<DescriptorMatch>& inliers) {
@@ -284,6 +286,7 @@ struct RgbdSlam::Impl {
       add_icp_edge(from, id, T_from_new);
     }
     ++stats.keyframes;
+    if (opt.appearance_loops > 0) places.add(id, keyframes[id].features.descriptors);
     return id;
   }
 
@@ -312,6 +315,16 @@ struct RgbdSlam::Impl {
     for (std::size_t i = 0; i < by_norm.size() && i < opt.proximity_loops; ++i) {
       chosen[by_norm[i].second] = true;
       out.emplace_back(by_norm[i].second, RgbdLoopKind::Proximity);
+    }
+    if (opt.appearance_loops > 0) {
+      std::size_t taken = 0;
+      for (const PlaceCandidate& p : places.query(keyframes[k].features.descriptors, k + 1)) {
+        if (taken == opt.appearance_loops) break;
+        if (p.place >= k || chosen[p.place] || p.score < opt.appearance_min_score) continue;
+        chosen[p.place] = true;
+        out.emplace_back(p.place, RgbdLoopKind::Appearance);
+        ++taken;
+      }
     }
     std::vector<std::size_t> rest;
     for (std::size_t c = 0; c < k; ++c) {
@@ -348,7 +361,9 @@ struct RgbdSlam::Impl {
       const SE3d T_k_c = graph.pose(k).inverse() * graph.pose(c);
       const Attempt a = estimate(keyframes[c].features, keyframes[k].features, T_k_c,
                                  kLoopRadiusFactor * opt.guided_radius_px,
-                                 kind == RgbdLoopKind::Random ? Search::BruteOnly : Search::GuidedOnly,
+                                 kind == RgbdLoopKind::Random || kind == RgbdLoopKind::Appearance
+                                     ? Search::BruteOnly
+                                     : Search::GuidedOnly,
                                  pnp_loop, opt.loop_max_norm, ignored_match, ignored_pnp);
       RgbdLoopCheck check{k, c, kind, a.matches, a.pnp.ok() ? a.pnp.inliers.size() : 0,
                           a.pnp.ok() ? motion_norm(a.pnp.T_camera_world) : 0.0, a.good};
@@ -656,6 +671,7 @@ std::string_view to_string(RgbdLoopKind kind) {
     case RgbdLoopKind::Nearby: return "nearby";
     case RgbdLoopKind::Random: return "random";
     case RgbdLoopKind::Proximity: return "proximity";
+    case RgbdLoopKind::Appearance: return "appearance";
   }
   return "?";
 }

@@ -60,7 +60,9 @@ void read_loops(const ConfigSection& s, RgbdSlamOptions& o) {
   o.nearby_loops = get_count(s, "nearby_loops", o.nearby_loops, 0, 1e6);
   o.random_loops = get_count(s, "random_loops", o.random_loops, 0, 1e6);
   o.proximity_loops = get_count(s, "proximity_loops", o.proximity_loops, 0, 1e6);
-  if (!check_loops) o.nearby_loops = o.random_loops = o.proximity_loops = 0;
+  o.appearance_loops = get_count(s, "appearance_loops", o.appearance_loops, 0, 1e6);
+  o.appearance_min_score = s.get_in_range("appearance_min_score", o.appearance_min_score, 0.0, 1.0);
+  if (!check_loops) o.nearby_loops = o.random_loops = o.proximity_loops = o.appearance_loops = 0;
   o.proximity_max_norm = s.get_in_range("proximity_max_norm", o.proximity_max_norm, 1e-6, 1e6);
   o.loop_min_inliers = get_count(s, "loop_min_inliers", o.loop_min_inliers, 4, 1e9);
   o.loop_max_norm = s.get_in_range("max_norm_lp", o.loop_max_norm, 0.0, 1e6);
@@ -110,6 +112,7 @@ RgbdSlamOptions RgbdSlamOptions::tutorial() {
   o.nearby_loops = 5;
   o.random_loops = 5;
   o.proximity_loops = 0;
+  o.appearance_loops = 0;
   o.loop_min_inliers = 5;
   o.loop_max_norm = 5.0;
   o.symmetric_edges = false;

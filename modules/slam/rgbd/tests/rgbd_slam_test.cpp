@@ -138,6 +138,38 @@ TEST(RgbdSlam, RollingShutterFramesAreFollowedWhenTheReadoutIsKnown) {
   EXPECT_LT(corrected.mean_rotation, 0.5 * plain.mean_rotation);
 }
 
+// Loop candidates by appearance alone (no nearby, proximity or random
+// ones): the room's path comes back near its start, and the keyframes that
+// look alike are found and closed.
+TEST(RgbdSlam, AppearanceAloneFindsTheLoopBackToTheStart) {
+  const PinholeCamera cam = test_camera();
+  RgbdSlamOptions o;
+  o.nearby_loops = o.proximity_loops = o.random_loops = 0;
+  o.appearance_loops = 2;
+  RgbdSlam slam(cam, o);
+  constexpr std::size_t kFrames = 30;
+  for (std::size_t i = 0; i < kFrames; ++i) slam.process(render(cam, true_pose(i, kFrames)), 0.1 * static_cast<double>(i));
+  slam.finish();
+  std::size_t checked = 0, accepted = 0, far_apart = 0;
+  for (const RgbdLoopCheck& c : slam.loop_checks()) {
+    EXPECT_EQ(c.kind, RgbdLoopKind::Appearance);
+    ++checked;
+    accepted += c.accepted;
+    // Not the previous keyframe (joined already) and, for some, a keyframe
+    // from the start seen again at the end.
+    if (c.accepted && c.keyframe >= c.candidate + 3) ++far_apart;
+  }
+  EXPECT_GT(checked, 0u);
+  EXPECT_GE(accepted, checked / 2) << "appearance candidates should mostly be real loops";
+  EXPECT_GE(far_apart, 1u);
+  const SE3d T0 = true_pose(0, kFrames);
+  for (std::size_t i = 0; i < kFrames; ++i) {
+    const SE3d err = (T0.inverse() * true_pose(i, kFrames)).inverse() * slam.frame_pose(i);
+    EXPECT_LT(err.translation().norm(), 0.02) << "frame " << i;
+  }
+  EXPECT_EQ(to_string(RgbdLoopKind::Appearance), "appearance");
+}
+
 // Distance from p (world) to the nearest of the room's planes.
 double distance_to_room(const Eigen::Vector3d& p) {
   double d = std::numeric_limits<double>::infinity();

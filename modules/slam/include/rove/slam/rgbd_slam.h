@@ -60,9 +60,10 @@ enum class RgbdLoopKind {
   Nearby,     ///< one of the latest keyframes
   Random,     ///< drawn at random among the older ones
   Proximity,  ///< nearest in pose
+  Appearance, ///< most alike in appearance (rove/vision/place_recognition.h)
 };
 
-/// "nearby", "random", "proximity".
+/// "nearby", "random", "proximity", "appearance".
 std::string_view to_string(RgbdLoopKind kind);
 
 /// One processed frame.
