@@ -125,7 +125,7 @@ Proposal propose_optimal(const RbpfParticle& p, const UpdateContext& c, Rng& rng
   // and ½ cell (GMapping's matcher, too, uses every beam). The likelihood
   // of one in LF_decimation points (45 of the Intel log's 180) is constant
   // while they stay in their cells, and on such a plateau the motion prior
-  // decides. The Intel log's odometry turns 1.3° too far per update; the
+  // decides. The Intel log's odometry turns 1.2° too far per update; the
   // climb kept −0.29° of that per update (std 1.1°, against rove
   // lidar-slam's path) and the corridors bent. The sum over every point
   // changes within a cell: over the whole run the heading error per update

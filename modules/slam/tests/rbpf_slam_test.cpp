@@ -195,7 +195,7 @@ TEST(RbpfSlam, ClosesTheSimulatedLoop) {
 }
 
 /// Regression test of the Intel log's bent corridors (MRPT's
-/// gridmapping_intel.ini on the Radish log): the log's odometry turns 1.3°
+/// gridmapping_intel.ini on the Radish log): the log's odometry turns 1.2°
 /// too far per update on average. The likelihood of one in LF_decimation
 /// points (45 of 180) is constant over a cell of motion, and on that plateau
 /// the motion prior used to decide the optimal proposal's mode: every update
