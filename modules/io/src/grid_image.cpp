@@ -138,7 +138,13 @@ RosMapFiles save_ros_map(const std::string& prefix, const OccupancyGrid& grid,
   RosMapFiles files;
   files.image = prefix + (options.format == ImageFormat::Png ? ".png" : ".pgm");
   files.yaml = prefix + ".yaml";
-  write_gray_image(files.image, grid_to_image(grid, options), options.format);
+  if (options.format == ImageFormat::Png && options.fast_png) {
+    PngEncoding fast;
+    fast.fast = true;
+    write_png(files.image, grid_to_image(grid, options), fast);
+  } else {
+    write_gray_image(files.image, grid_to_image(grid, options), options.format);
+  }
   RosMapYaml y;
   y.image = file_name(files.image);
   y.resolution = grid.resolution();

@@ -4,9 +4,9 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <atomic>
-#include <unordered_set>
 #include <utility>
 
 #include "rove/core/check.h"
@@ -184,14 +184,22 @@ std::size_t TiledGrid::tile_count() const noexcept {
 }
 
 std::size_t TiledGrid::distinct_tiles(std::span<const TiledGrid* const> grids) {
-  std::unordered_set<const GridTile*> seen;
+  // Sorted pointers, counted once each (a set's node per tile cost more
+  // than the particle filter's step it is counted for).
+  std::size_t n = 0;
   for (const TiledGrid* g : grids) {
     ROVE_CHECK(g != nullptr);
+    n += g->tiles_.size();
+  }
+  std::vector<const GridTile*> seen;
+  seen.reserve(n);
+  for (const TiledGrid* g : grids) {
     for (const auto& t : g->tiles_) {
-      if (t) seen.insert(t.get());
+      if (t) seen.push_back(t.get());
     }
   }
-  return seen.size();
+  std::sort(seen.begin(), seen.end(), std::less<const GridTile*>());
+  return static_cast<std::size_t>(std::unique(seen.begin(), seen.end()) - seen.begin());
 }
 
 OccupancyGrid TiledGrid::to_occupancy_grid() const {
@@ -317,36 +325,59 @@ class TiledRayWriter {
   // Applies v → update(v) to cell (cx, cy) when it changes the value.
   template <typename Update>
   void apply(int cx, int cy, const Update& update) {
-    const int tx = cx >> kLog, ty = cy >> kLog;
-    if (tx != tx_ || ty != ty_) {
-      tx_ = tx;
-      ty_ = ty;
-      const auto* s = std::as_const(grid_).slot(tx, ty);
-      tile_ = (s != nullptr) ? s->get() : nullptr;
-      own_ = tile_ != nullptr && tile_->stamp == stamp_;
-    }
+    select(cx >> kLog, cy >> kLog);
     const std::size_t i = static_cast<std::size_t>((cx & kMask) + (cy & kMask) * kSide);
     const int v = tile_ != nullptr ? tile_->cells[i] : 0;
     const int nv = update(v);
-    if (nv == v) return;
-    if (!own_) {
-      bool copied = false;
-      GridTile& t = grid_.writable(tx, ty, &copied);
-      if (t.stamp != stamp_) {
-        t.stamp = stamp_;
-        written_.push_back(&t);
-        copied_ += copied ? 1 : 0;
-      }
-      tile_ = &t;
-      own_ = true;
+    if (nv != v) write(cx, cy, i, nv);
+  }
+  // apply(cx0 + (f_x >> kFrBits), cy0 + (f_y >> kFrBits), update) for
+  // f = 0, fr, 2·fr, ... (n_steps cells, a ray's fixed-point DDA), tile by
+  // tile: within a tile the accumulators are kept relative to its corner,
+  // so the cell's offset in the tile is the accumulator's integer part.
+  template <int kFrBits, typename Update>
+  void trace(int cx0, int cy0, int fr_dx, int fr_dy, int n_steps, const Update& update) {
+    int fx = 0, fy = 0;
+    int cx = cx0, cy = cy0;
+    const int below = below_;
+    while (n_steps > 0) {
+      const int tx = cx >> kLog, ty = cy >> kLog;
+      select(tx, ty);
+      // The tile's corner relative to the first cell, and the accumulators
+      // relative to the corner (exact: the corner is a whole cell).
+      const int bx = (tx << kLog) - cx0, by = (ty << kLog) - cy0;
+      int lxf = fx - (bx << kFrBits), lyf = fy - (by << kFrBits);
+      // Cells written only once the tile is this insertion's own (local
+      // copies: the writes through int8_t would make members reload).
+      GridTile* own = own_ ? const_cast<GridTile*>(tile_) : nullptr;
+      const std::int8_t* cells = tile_ != nullptr ? tile_->cells.data() : unknown_cells().data();
+      do {
+        const int lx = lxf >> kFrBits, ly = lyf >> kFrBits;
+        if (((lx | ly) & ~kMask) != 0) break;  // the ray left the tile
+        const int i = lx | (ly << kLog);
+        const int v = cells[i];
+        const int nv = update(v);
+        if (nv != v) {
+          if (own == nullptr) {
+            make_own();
+            own = const_cast<GridTile*>(tile_);
+            cells = own->cells.data();
+          }
+          own->cells[static_cast<std::size_t>(i)] = static_cast<std::int8_t>(nv);
+          // The cell's occupied bit follows its value.
+          if ((nv < below) != (v < below)) {
+            std::uint32_t& row = own->occupied[static_cast<std::size_t>(ly)];
+            row = (row & ~(1u << lx)) | (static_cast<std::uint32_t>(nv < below) << lx);
+          }
+        }
+        lxf += fr_dx;
+        lyf += fr_dy;
+      } while (--n_steps > 0);
+      fx = lxf + (bx << kFrBits);
+      fy = lyf + (by << kFrBits);
+      cx = cx0 + (fx >> kFrBits);
+      cy = cy0 + (fy >> kFrBits);
     }
-    GridTile& t = *const_cast<GridTile*>(tile_);
-    t.cells[i] = static_cast<std::int8_t>(nv);
-    // The cell's occupied bit follows its value (the rest of the tile's
-    // bits are unchanged: no recomputation of the tile at the end).
-    std::uint32_t& row = t.occupied[static_cast<std::size_t>(cy & kMask)];
-    const int lx = cx & kMask;
-    row = (row & ~(1u << lx)) | (static_cast<std::uint32_t>(nv < below_) << lx);
   }
   // Fills the counts.
   void finish(TiledInsertResult& r) {
@@ -355,6 +386,43 @@ class TiledRayWriter {
   }
 
  private:
+  // Makes tile (tx, ty) the current one.
+  void select(int tx, int ty) {
+    if (tx != tx_ || ty != ty_) {
+      tx_ = tx;
+      ty_ = ty;
+      const auto* s = std::as_const(grid_).slot(tx, ty);
+      tile_ = (s != nullptr) ? s->get() : nullptr;
+      own_ = tile_ != nullptr && tile_->stamp == stamp_;
+    }
+  }
+  // Writes nv to cell (cx, cy), index i of the current tile (copied or
+  // created first unless this insertion owns it).
+  void write(int cx, int cy, std::size_t i, int nv) {
+    if (!own_) make_own();
+    GridTile& t = *const_cast<GridTile*>(tile_);
+    t.cells[i] = static_cast<std::int8_t>(nv);
+    // The cell's occupied bit follows its value (the rest of the tile's
+    // bits are unchanged: no recomputation of the tile at the end).
+    std::uint32_t& row = t.occupied[static_cast<std::size_t>(cy & kMask)];
+    const int lx = cx & kMask;
+    row = (row & ~(1u << lx)) | (static_cast<std::uint32_t>(nv < below_) << lx);
+  }
+
+  // Makes the current tile this insertion's own (created, or copied when
+  // shared).
+  [[gnu::noinline]] void make_own() {
+    bool copied = false;
+    GridTile& t = grid_.writable(tx_, ty_, &copied);
+    if (t.stamp != stamp_) {
+      t.stamp = stamp_;
+      written_.push_back(&t);
+      copied_ += copied ? 1 : 0;
+    }
+    tile_ = &t;
+    own_ = true;
+  }
+
   TiledGrid& grid_;
   std::uint64_t stamp_ = 0;
   int below_ = occupied_below();  // occupied: a value below this
@@ -391,13 +459,8 @@ std::size_t insert_thin_tiled(TiledGrid& grid, const RangeScan2D& scan,
     const int fr_dx = detail::fixed_step(dx, inv_n), fr_dy = detail::fixed_step(dy, inv_n);
     const int obs = ok ? st.obs_free : st.obs_noecho_free;
     const int thres = st.thres_free;
-    const auto free = [&](int v) { return v < thres ? v + obs : Traits::kMax; };
-    int fx = 0, fy = 0;
-    for (int s = 0; s < n_steps; ++s) {
-      writer.apply(cx0 + (fx >> kFrBits), cy0 + (fy >> kFrBits), free);
-      fx += fr_dx;
-      fy += fr_dy;
-    }
+    const auto free = [obs, thres](int v) { return v < thres ? v + obs : Traits::kMax; };
+    writer.trace<kFrBits>(cx0, cy0, fr_dx, fr_dy, n_steps, free);
     const std::size_t i = k * static_cast<std::size_t>(dir.step);
     if (ok && scan.ranges[i] < opt.max_distance_insertion) {
       const int obs_occ = st.obs_occupied, thres_occ = st.thres_occupied;
@@ -590,8 +653,9 @@ void TiledDistanceMemo::reserve_points(std::size_t points) {
   cells_.resize(points << (2 * kWindowLog));
 }
 
-std::uint32_t TiledLikelihoodField::distance(const TiledGrid& grid, int cx, int cy,
-                                             TiledDistanceMemo* memo, std::size_t j) const {
+[[gnu::noinline]] std::uint32_t TiledLikelihoodField::distance(const TiledGrid& grid, int cx, int cy,
+                                                               TiledDistanceMemo* memo,
+                                                               std::size_t j) const {
   if (memo == nullptr) return grid.squared_distance(cx, cy, radius_);
   TiledDistanceMemo& m = *memo;
   constexpr int kW = TiledDistanceMemo::kWindow, kLog = TiledDistanceMemo::kWindowLog;
@@ -652,7 +716,20 @@ double TiledLikelihoodField::point_sum(const TiledGrid& grid, const TiledScanPoi
   for (std::size_t j = 0; j < n; ++j) {
     const double wx = t.x() + scan.xs[j] * cs.x() - scan.ys[j] * cs.y();
     const double wy = t.y() + scan.xs[j] * cs.y() + scan.ys[j] * cs.x();
-    const std::uint32_t d2 = distance(grid, grid.to_idx(wx), grid.to_idx(wy), memo, j);
+    const int cx = grid.to_idx(wx), cy = grid.to_idx(wy);
+    std::uint32_t d2 = TiledDistanceMemo::kUnknown;
+    if (memo != nullptr) {
+      // distance()'s first answer, here without a call: the point's window.
+      const TiledDistanceMemo::Window& w = memo->windows_[j];
+      const unsigned ux = static_cast<unsigned>(cx) - static_cast<unsigned>(w.x0);
+      const unsigned uy = static_cast<unsigned>(cy) - static_cast<unsigned>(w.y0);
+      if (w.stamp == memo->generation_ && (ux | uy) < static_cast<unsigned>(TiledDistanceMemo::kWindow)) {
+        d2 = memo->cells_[(j << (2 * TiledDistanceMemo::kWindowLog)) |
+                          (uy << TiledDistanceMemo::kWindowLog) | ux];
+        memo->window_hits_ += d2 != TiledDistanceMemo::kUnknown ? 1 : 0;
+      }
+    }
+    if (d2 == TiledDistanceMemo::kUnknown) d2 = distance(grid, cx, cy, memo, j);
     sum += d2 < cap_cells_ ? value_[d2] : capped_;
     // Checked every 8 points: the bound costs a multiplication.
     if ((j & 7u) == 7u) {

@@ -59,10 +59,15 @@ template <typename F>
 Vec3 climb(const F& f, Vec3 start, Vec3 step, int levels) {
   double best = f(start, -std::numeric_limits<double>::infinity());
   for (int level = 0; level < levels; ++level, step *= 0.5) {
+    // The step back to the pose the last move came from (up to rounding):
+    // its value is below best, so it is not evaluated again.
+    int back_axis = -1;
+    double back_sign = 0.0;
     for (int it = 0; it < 16; ++it) {
       bool improved = false;
       for (int axis = 0; axis < 3; ++axis) {
         for (const double sign : {1.0, -1.0}) {
+          if (axis == back_axis && sign == back_sign) continue;
           Vec3 v = start;
           v[axis] += sign * step[axis];
           const double fv = f(v, best);
@@ -70,6 +75,8 @@ Vec3 climb(const F& f, Vec3 start, Vec3 step, int levels) {
             best = fv;
             start = v;
             improved = true;
+            back_axis = axis;
+            back_sign = -sign;
           }
         }
       }

@@ -51,6 +51,9 @@ struct GridImageOptions {
   double free_thresh = 0.196;
   /// Image file format for save_ros_map.
   ImageFormat format = ImageFormat::Png;
+  /// PNG only: PngEncoding::fast (no row filters, run-length deflate at
+  /// level 1: faster, larger files) instead of libpng's defaults.
+  bool fast_png = false;
 };
 
 /// The image of a grid (row 0 = largest y). Precondition (InvalidArgument):
