@@ -4,7 +4,6 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <functional>
 #include <limits>
 #include <atomic>
 #include <utility>
@@ -184,22 +183,33 @@ std::size_t TiledGrid::tile_count() const noexcept {
 }
 
 std::size_t TiledGrid::distinct_tiles(std::span<const TiledGrid* const> grids) {
-  // Sorted pointers, counted once each (a set's node per tile cost more
-  // than the particle filter's step it is counted for).
+  // An open-addressing set of the pointers in one array (a hash set's node
+  // per tile cost more than the particle filter's step it is counted for).
   std::size_t n = 0;
   for (const TiledGrid* g : grids) {
     ROVE_CHECK(g != nullptr);
     n += g->tiles_.size();
   }
-  std::vector<const GridTile*> seen;
-  seen.reserve(n);
+  int log2 = 4;
+  while ((std::size_t{1} << log2) < 2 * n) ++log2;
+  std::vector<const GridTile*> seen(std::size_t{1} << log2, nullptr);
+  const std::size_t mask = seen.size() - 1;
+  std::size_t count = 0;
   for (const TiledGrid* g : grids) {
     for (const auto& t : g->tiles_) {
-      if (t) seen.push_back(t.get());
+      const GridTile* p = t.get();
+      if (p == nullptr) continue;
+      const auto key = static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(p));
+      // Fibonacci hashing, then linear probing.
+      std::size_t i = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - log2));
+      while (seen[i] != nullptr && seen[i] != p) i = (i + 1) & mask;
+      if (seen[i] == nullptr) {
+        seen[i] = p;
+        ++count;
+      }
     }
   }
-  std::sort(seen.begin(), seen.end(), std::less<const GridTile*>());
-  return static_cast<std::size_t>(std::unique(seen.begin(), seen.end()) - seen.begin());
+  return count;
 }
 
 OccupancyGrid TiledGrid::to_occupancy_grid() const {

@@ -161,15 +161,28 @@ Proposal propose_optimal(const RbpfParticle& p, const UpdateContext& c, Rng& rng
   // e^-kNegligible per such sample.
   constexpr double kNegligible = 40.0;
   double max_lw = -std::numeric_limits<double>::infinity();
+  // The effective sample size (Σw)² / Σw² kept as the samples come, the
+  // sums relative to the largest weight so far (rescaled when it grows):
+  // summing every round afresh cost as much as a fifth of the samples.
+  double sum = 0.0, sum_sq = 0.0;
   while (v.size() < k_max) {
     for (std::size_t j = 0; j < kRound; ++j) {
       const Vec3 x = j < kRound / 2 ? around.sample(rng) : c.prior.sample(rng);
       const double lq = std::log(0.5) + log_add(around.log_density(x), c.prior.log_density(x));
       v.push_back(x);
-      lw.push_back(target(x, max_lw - kNegligible + lq) - lq);
-      max_lw = std::max(max_lw, lw.back());
+      const double l = target(x, max_lw - kNegligible + lq) - lq;
+      lw.push_back(l);
+      if (l > max_lw) {
+        const double r = std::exp(max_lw - l);  // 0 for the first sample
+        sum *= r;
+        sum_sq *= r * r;
+        max_lw = l;
+      }
+      const double e = std::exp(l - max_lw);
+      sum += e;
+      sum_sq += e * e;
     }
-    if (summarize_log_weights(lw).effective_sample_size >= kTargetEss) break;
+    if (sum * sum >= kTargetEss * sum_sq) break;
   }
   Proposal out;
   // η = ∫ p(z | x, m) p(x | x', u) dx ≈ mean of the importance weights
