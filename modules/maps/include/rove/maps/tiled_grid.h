@@ -175,11 +175,12 @@ class TiledGrid {
 
 std::uint32_t TiledGrid::squared_distance(int cx, int cy, int max_cells) const noexcept {
   constexpr int kSide = GridTile::kSide, kMask = kSide - 1, kLog = GridTile::kLogSide;
+  static constexpr std::array<std::uint32_t, kSide> kNoRows{};
   const int tx = cx >> kLog, lx = cx & kMask, ty0 = cy >> kLog;
-  // The tiles left of, at and right of the cell's column in the tile rows
-  // ty0 − 1, ty0, ty0 + 1 (rows within 31 cells reach no farther), fetched
-  // when first needed.
-  const GridTile* near[3][3];
+  // The occupied bits of the tiles left of, at and right of the cell's
+  // column in the tile rows ty0 − 1, ty0, ty0 + 1 (rows within 31 cells
+  // reach no farther; a missing tile has none), fetched when first needed.
+  const std::uint32_t* near[3][3];
   bool fetched[3] = {false, false, false};
   std::uint32_t best = 0xffffffffu;
   for (int k = 0; k <= max_cells; ++k) {
@@ -188,26 +189,21 @@ std::uint32_t TiledGrid::squared_distance(int cx, int cy, int max_cells) const n
       const int y = side == 0 ? cy + k : cy - k;
       const int t = (y >> kLog) - ty0 + 1;
       if (!fetched[t]) {
-        for (int c = 0; c < 3; ++c) near[t][c] = tile_ptr(tx - 1 + c, ty0 + t - 1);
+        for (int c = 0; c < 3; ++c) {
+          const GridTile* tile = tile_ptr(tx - 1 + c, ty0 + t - 1);
+          near[t][c] = tile != nullptr ? tile->occupied.data() : kNoRows.data();
+        }
         fetched[t] = true;
       }
       const std::size_t ly = static_cast<std::size_t>(y & kMask);
-      const std::uint32_t center = near[t][1] != nullptr ? near[t][1]->occupied[ly] : 0u;
-      int dx = kSide + 1;
-      // Nearest occupied cell at or right of cx, then at or left of it.
-      if (const std::uint32_t r = center >> lx; r != 0) {
-        dx = std::countr_zero(r);
-      } else if (near[t][2] != nullptr && near[t][2]->occupied[ly] != 0) {
-        dx = (kSide - lx) + std::countr_zero(near[t][2]->occupied[ly]);
-      }
-      if (dx > 0) {
-        if (const std::uint32_t l = center << (kMask - lx); l != 0) {
-          dx = std::min(dx, std::countl_zero(l));
-        } else if (near[t][0] != nullptr && near[t][0]->occupied[ly] != 0) {
-          dx = std::min(dx, lx + 1 + std::countl_zero(near[t][0]->occupied[ly]));
-        }
-      }
-      if (dx <= kSide) best = std::min(best, static_cast<std::uint32_t>(dx * dx + k * k));
+      const std::uint64_t centre = near[t][1][ly];
+      // The row's columns cx, cx + 1, ... from bit 0 up, and cx, cx − 1, ...
+      // from bit 63 down, over the centre tile and its neighbour; the
+      // nearest occupied cell either way (64: none within 32 columns).
+      const std::uint64_t right = (centre | (std::uint64_t{near[t][2][ly]} << kSide)) >> lx;
+      const std::uint64_t left = (std::uint64_t{near[t][0][ly]} | (centre << kSide)) << (kMask - lx);
+      const int dx = std::min(std::countr_zero(right), std::countl_zero(left));
+      best = std::min(best, static_cast<std::uint32_t>(dx * dx + k * k));
     }
   }
   return best;
