@@ -721,32 +721,47 @@ double TiledLikelihoodField::point_sum(const TiledGrid& grid, const TiledScanPoi
   const std::size_t n = scan.xs.size();
   if (memo != nullptr) memo->reserve_points(n);
   const Eigen::Vector2d cs = T_map_robot.rotation().unit_complex();
-  const Eigen::Vector2d& t = T_map_robot.translation();
+  const double c = cs.x(), s = cs.y();
+  const double tx = T_map_robot.translation().x(), ty = T_map_robot.translation().y();
+  const double* xs = scan.xs.data();
+  const double* ys = scan.ys.data();
+  const double* value = value_.data();
+  // The memo's windows, read here without a call (distance() below fills
+  // them and answers the rest); kept in locals, as is the hit count, so
+  // that the loop does not reload them.
+  constexpr int kW = TiledDistanceMemo::kWindow, kWLog = TiledDistanceMemo::kWindowLog;
+  const TiledDistanceMemo::Window* windows = memo != nullptr ? memo->windows_.data() : nullptr;
+  const std::uint16_t* window_cells = memo != nullptr ? memo->cells_.data() : nullptr;
+  const std::uint32_t generation = memo != nullptr ? memo->generation_ : 0;
+  std::size_t window_hits = 0;
   double sum = 0.0;
-  for (std::size_t j = 0; j < n; ++j) {
-    const double wx = t.x() + scan.xs[j] * cs.x() - scan.ys[j] * cs.y();
-    const double wy = t.y() + scan.xs[j] * cs.y() + scan.ys[j] * cs.x();
+  std::size_t j = 0;
+  for (; j < n; ++j) {
+    const double wx = tx + xs[j] * c - ys[j] * s;
+    const double wy = ty + xs[j] * s + ys[j] * c;
     const int cx = grid.to_idx(wx), cy = grid.to_idx(wy);
     std::uint32_t d2 = TiledDistanceMemo::kUnknown;
-    if (memo != nullptr) {
-      // distance()'s first answer, here without a call: the point's window.
-      const TiledDistanceMemo::Window& w = memo->windows_[j];
+    if (windows != nullptr) {
+      const TiledDistanceMemo::Window& w = windows[j];
       const unsigned ux = static_cast<unsigned>(cx) - static_cast<unsigned>(w.x0);
       const unsigned uy = static_cast<unsigned>(cy) - static_cast<unsigned>(w.y0);
-      if (w.stamp == memo->generation_ && (ux | uy) < static_cast<unsigned>(TiledDistanceMemo::kWindow)) {
-        d2 = memo->cells_[(j << (2 * TiledDistanceMemo::kWindowLog)) |
-                          (uy << TiledDistanceMemo::kWindowLog) | ux];
-        memo->window_hits_ += d2 != TiledDistanceMemo::kUnknown ? 1 : 0;
+      if (w.stamp == generation && (ux | uy) < static_cast<unsigned>(kW)) {
+        d2 = window_cells[(j << (2 * kWLog)) | (uy << kWLog) | ux];
+        window_hits += d2 != TiledDistanceMemo::kUnknown ? 1 : 0;
       }
     }
     if (d2 == TiledDistanceMemo::kUnknown) d2 = distance(grid, cx, cy, memo, j);
-    sum += d2 < cap_cells_ ? value_[d2] : capped_;
+    sum += d2 < cap_cells_ ? value[d2] : capped_;
     // Checked every 8 points: the bound costs a multiplication.
     if ((j & 7u) == 7u) {
       const double bound = sum + static_cast<double>(n - 1 - j) * best_value_;
-      if (bound < stop_below) return bound;
+      if (bound < stop_below) {
+        sum = bound;
+        break;
+      }
     }
   }
+  if (memo != nullptr) memo->window_hits_ += window_hits;
   return sum;
 }
 
