@@ -346,7 +346,7 @@ class TiledRayWriter {
   // tile: within a tile the accumulators are kept relative to its corner,
   // so the cell's offset in the tile is the accumulator's integer part.
   template <int kFrBits, typename Update>
-  void trace(int cx0, int cy0, int fr_dx, int fr_dy, int n_steps, const Update& update) {
+  [[gnu::noinline]] void trace(int cx0, int cy0, int fr_dx, int fr_dy, int n_steps, const Update& update) {
     int fx = 0, fy = 0;
     int cx = cx0, cy = cy0;
     const int below = below_;
