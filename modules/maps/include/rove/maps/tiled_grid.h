@@ -177,6 +177,26 @@ std::uint32_t TiledGrid::squared_distance(int cx, int cy, int max_cells) const n
   constexpr int kSide = GridTile::kSide, kMask = kSide - 1, kLog = GridTile::kLogSide;
   static constexpr std::array<std::uint32_t, kSide> kNoRows{};
   const int tx = cx >> kLog, lx = cx & kMask, ty0 = cy >> kLog;
+  if (const int ly = cy & kMask;
+      lx >= max_cells && lx + max_cells <= kMask && ly >= max_cells && ly + max_cells <= kMask) {
+    // Every cell within max_cells rows and columns lies in the cell's own
+    // tile: its rows alone give every distance ≤ max_cells exactly (and
+    // any other value found is above max_cells²).
+    const GridTile* tile = tile_ptr(tx, ty0);
+    if (tile == nullptr) return 0xffffffffu;
+    const std::uint32_t* rows = tile->occupied.data();
+    std::uint32_t best = 0xffffffffu;
+    for (int k = 0; k <= max_cells; ++k) {
+      if (static_cast<std::uint32_t>(k * k) >= best) break;
+      for (int side = 0; side < (k == 0 ? 1 : 2); ++side) {
+        const std::uint32_t row = rows[static_cast<std::size_t>(side == 0 ? ly + k : ly - k)];
+        // 32: none in the row on that side.
+        const int dx = std::min(std::countr_zero(row >> lx), std::countl_zero(row << (kMask - lx)));
+        best = std::min(best, static_cast<std::uint32_t>(dx * dx + k * k));
+      }
+    }
+    return best;
+  }
   // The occupied bits of the tiles left of, at and right of the cell's
   // column in the tile rows ty0 − 1, ty0, ty0 + 1 (rows within 31 cells
   // reach no farther; a missing tile has none), fetched when first needed.
