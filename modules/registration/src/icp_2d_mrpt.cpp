@@ -20,10 +20,20 @@ template std::size_t icp2d_match_range(const KdTree<2, float>&, const Icp2dMatch
 
 namespace {
 
+// Both helpers stay out of line. Inlined, GCC 12's basic-block SLP
+// vectorizer (on at -O3, and with its cheap cost model at -O2) drops some
+// of the (double)(float) round trips of neighbouring fields: in a Release
+// build 8 of the 12 options of mrpt_rounded_options came out unrounded
+// (minAbsStep_trans and _rot, ALFA, smallestThresholdDist,
+// LM_initial_lambda, Axy_aprox_derivatives, the RANSAC Mahalanobis
+// threshold, normalizationStd), and the LM run of icp-slam left MRPT's path
+// at step 20. The sanitizer build (-O1) has no SLP pass and never showed it.
+// Icp2dMrptCompat.Gcc12SlpKeepsEveryOptionRoundedToFloat pins it.
+
 /// MRPT's read_float of a double field: the nearest float.
-double as_float(double v) { return static_cast<float>(v); }
+[[gnu::noinline]] double as_float(double v) { return static_cast<float>(v); }
 /// MRPT's DEG2RAD of a float read of degrees: x·float(π)/180 in float.
-double as_float_deg_to_rad(double rad) {
+[[gnu::noinline]] double as_float_deg_to_rad(double rad) {
   const float deg = static_cast<float>(rad_to_deg(rad));
   return deg * std::numbers::pi_v<float> / 180.0f;
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <numbers>
 #include <random>
 #include <string>
@@ -9,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../src/icp_2d_internal.h"
 #include "rove/core/error.h"
 #include "rove/poses/lie_conversion.h"
 #include "rove/core/ini.h"
@@ -159,6 +161,65 @@ TEST(Icp2dMrptCompat, MrptFitRecoversKnownPoses) {
     if (algo == IcpAlgorithm::Classic)
       expect_pose_near(to_pose2(f.T_target_source), to_pose2(d.T_target_source), 2e-4, 2e-4);
   }
+}
+
+// Arithmetic::Mrpt holds the [ICP] options as MRPT reads them: the nearest
+// float of every value. GCC 12's SLP vectorizer dropped 8 of these 12 round
+// trips in Release builds (icp_2d_mrpt.cpp), and only the Telecom LM run
+// showed it, by leaving MRPT's path; here each field has a value that float
+// cannot hold, so a lost rounding fails by name. It can only fail in an
+// optimized build: the sanitizer build (-O1) runs no SLP pass.
+TEST(Icp2dMrptCompat, Gcc12SlpKeepsEveryOptionRoundedToFloat) {
+  Icp2dOptions o;
+  o.arithmetic = Arithmetic::Mrpt;
+  o.min_abs_step_trans = 1e-6;
+  o.min_abs_step_rot = 1.1e-6;
+  o.threshold_dist = 0.3;
+  o.alfa = 0.8;
+  o.smallest_threshold_dist = 0.1;
+  o.covariance_var_points = 4e-4;
+  o.kernel_rho = 0.07;
+  o.lm_initial_lambda = 1e-4;
+  o.axy_aprox_derivatives = 0.05;
+  o.ransac.mahalanobis_threshold = 3.1;
+  o.ransac.normalization_std = 0.02;
+  o.ransac.fuse_max_diff_xy = 0.01;
+  o.threshold_ang = deg_to_rad(0.17);
+  o.ransac.fuse_max_diff_phi = deg_to_rad(0.35);
+  const Icp2dOptions r = detail::mrpt_rounded_options(o);
+
+  const struct {
+    const char* name;
+    double given, rounded;
+  } fields[] = {
+      {"min_abs_step_trans", o.min_abs_step_trans, r.min_abs_step_trans},
+      {"min_abs_step_rot", o.min_abs_step_rot, r.min_abs_step_rot},
+      {"threshold_dist", o.threshold_dist, r.threshold_dist},
+      {"alfa", o.alfa, r.alfa},
+      {"smallest_threshold_dist", o.smallest_threshold_dist, r.smallest_threshold_dist},
+      {"covariance_var_points", o.covariance_var_points, r.covariance_var_points},
+      {"kernel_rho", o.kernel_rho, r.kernel_rho},
+      {"lm_initial_lambda", o.lm_initial_lambda, r.lm_initial_lambda},
+      {"axy_aprox_derivatives", o.axy_aprox_derivatives, r.axy_aprox_derivatives},
+      {"ransac.mahalanobis_threshold", o.ransac.mahalanobis_threshold,
+       r.ransac.mahalanobis_threshold},
+      {"ransac.normalization_std", o.ransac.normalization_std, r.ransac.normalization_std},
+      {"ransac.fuse_max_diff_xy", o.ransac.fuse_max_diff_xy, r.ransac.fuse_max_diff_xy},
+  };
+  for (const auto& f : fields) {
+    const double nearest_float = static_cast<float>(f.given);
+    ASSERT_NE(nearest_float, f.given) << f.name;
+    EXPECT_EQ(f.rounded, nearest_float)
+        << f.name << ": " << std::setprecision(17) << f.rounded << ", not the float "
+        << nearest_float;
+  }
+  // The angles: MRPT's DEG2RAD of its float read of the degrees, in float.
+  const auto mrpt_rad = [](double rad) {
+    return static_cast<double>(static_cast<float>(rad_to_deg(rad)) *
+                               std::numbers::pi_v<float> / 180.0f);
+  };
+  EXPECT_EQ(r.threshold_ang, mrpt_rad(o.threshold_ang));
+  EXPECT_EQ(r.ransac.fuse_max_diff_phi, mrpt_rad(o.ransac.fuse_max_diff_phi));
 }
 
 // The default arithmetic is double: far from the origin it is as exact as
