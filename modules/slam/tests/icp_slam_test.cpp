@@ -126,8 +126,8 @@ TEST(IcpSlamMrptCompat, LevenbergMarquardtDemoAgreesWithMrpt) {
 
 // In rove's default arithmetic the run is not MRPT's to the bit, but it is
 // the same run: the loop closes where MRPT's does, the map is as large.
-// Measured: classic 0.012 m RMSE (worst step 0.077 m), LM 0.108 m (worst
-// 0.31 m); both end within 1.5 cm of MRPT's end pose.
+// Measured: classic 0.012 m RMSE (worst step 0.077 m), LM 0.087 m (worst
+// 0.23 m); both end within 1.5 cm of MRPT's end pose.
 TEST(IcpSlam, DefaultArithmeticStaysNearMrptsPath) {
   for (const std::string variant : {"classic", "LM"}) {
     const SlamRun r =
