@@ -34,7 +34,7 @@ add_test(NAME cli.rgbd_slam_bad_threads COMMAND ${CMAKE_COMMAND}
 # intensity camera; a rawlog without 3D range scans is an error naming it.
 add_test(NAME cli.rgbd_slam_mrpt_rawlog COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rgbd-slam --no-progress ${ROVE_DATASETS_DIR}/mrpt/tests_rgbd.rawlog -o ${rove_rg_dir}/rawlog"
-  -DEXIT=0 "-DREGEX=rgbd-slam: 1 frames of .*tests_rgbd.rawlog' \\(rawlog, camera rawlog \\('OPENNI2' intensity camera\\)\\).*1 tracked, 0 lost.*1 keyframes.*octree: .*wrote 7 files"
+  -DEXIT=0 "-DREGEX=rgbd-slam: 1 frames of .*tests_rgbd.rawlog' \\(rawlog, camera rawlog \\('OPENNI2' intensity camera\\), global shutter\\).*1 tracked, 0 lost.*1 keyframes.*octree: .*wrote 7 files"
   -DFILE=${rove_rg_dir}/rawlog/trajectory.tum "-DFILE_REGEX=1462879443\\.617[0-9]+ 0\\.000000 0\\.000000 0\\.000000 0\\.000000000 0\\.000000000 0\\.000000000 1\\.000000000"
   -P ${rove_rg_expect})
 add_test(NAME cli.rgbd_slam_rawlog_without_scans COMMAND ${CMAKE_COMMAND}

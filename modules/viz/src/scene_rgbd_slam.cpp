@@ -31,7 +31,7 @@ constexpr std::size_t kMaxKeyframeFrames = 400;
 struct LoopChecks {
   std::size_t checked = 0;
   std::size_t accepted = 0;
-  std::map<std::string, std::size_t> accepted_by_kind;  // nearby, proximity, random
+  std::map<std::string, std::size_t> accepted_by_kind;  // appearance, nearby, proximity, random
 };
 
 std::vector<std::string_view> split_fields(std::string_view line) {
