@@ -267,18 +267,19 @@ class Solver {
     }
   }
 
-  std::size_t block(int a, int b) {
+  static std::uint64_t block_key(int a, int b) {
     if (a > b) std::swap(a, b);
-    const std::uint64_t key = (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
-    const auto [it, inserted] = block_index_.try_emplace(key, blocks_.size());
+    return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+  }
+
+  std::size_t block(int a, int b) {
+    const auto [it, inserted] = block_index_.try_emplace(block_key(a, b), blocks_.size());
+    if (a > b) std::swap(a, b);
     if (inserted) blocks_.push_back({a, b, Mat6::Zero()});
     return it->second;
   }
 
-  std::size_t find_block(int a, int b) const {
-    if (a > b) std::swap(a, b);
-    return block_index_.at((static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b));
-  }
+  std::size_t find_block(int a, int b) const { return block_index_.at(block_key(a, b)); }
 
   // Normal equations at the current state: H_cc (in blocks_), g_c, and per
   // point V, g_p and the observations' W = J_cᵀ·w·J_p.

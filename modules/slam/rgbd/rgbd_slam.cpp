@@ -117,12 +117,8 @@ struct RgbdSlam::Impl {
   // tangent) floored as the graph's edges are.
   void record_relative(std::size_t from, std::size_t to, const SE3d& T_from_to, const Mat6& covariance) {
     if (!opt.bundle_adjustment) return;
-    Mat6 c = 0.5 * (covariance + covariance.transpose());
-    for (int k = 0; k < 3; ++k) {
-      c(k, k) += opt.edge_min_sigma_translation * opt.edge_min_sigma_translation;
-      c(k + 3, k + 3) += opt.edge_min_sigma_rotation * opt.edge_min_sigma_rotation;
-    }
-    const Eigen::LDLT<Mat6> ldlt(c);
+    const Eigen::LDLT<Mat6> ldlt(
+        detail::floored_covariance(covariance, opt.edge_min_sigma_translation, opt.edge_min_sigma_rotation));
     if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) return;
     Mat6 info = ldlt.solve(Mat6::Identity());
     info = 0.5 * (info + info.transpose());

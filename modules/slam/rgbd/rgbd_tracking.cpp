@@ -239,14 +239,20 @@ Eigen::Matrix<double, 6, 6> inverse_covariance(const SE3d& T,
   return A * covariance * A.transpose();
 }
 
-Eigen::Matrix<double, 6, 6> edge_information(const Eigen::Matrix<double, 6, 6>& covariance,
-                                             double min_sigma_translation,
-                                             double min_sigma_rotation) {
+Eigen::Matrix<double, 6, 6> floored_covariance(const Eigen::Matrix<double, 6, 6>& covariance,
+                                               double min_sigma_translation, double min_sigma_rotation) {
   Eigen::Matrix<double, 6, 6> c = 0.5 * (covariance + covariance.transpose());
   for (int k = 0; k < 3; ++k) {
     c(k, k) += min_sigma_translation * min_sigma_translation;
     c(k + 3, k + 3) += min_sigma_rotation * min_sigma_rotation;
   }
+  return c;
+}
+
+Eigen::Matrix<double, 6, 6> edge_information(const Eigen::Matrix<double, 6, 6>& covariance,
+                                             double min_sigma_translation,
+                                             double min_sigma_rotation) {
+  const Eigen::Matrix<double, 6, 6> c = floored_covariance(covariance, min_sigma_translation, min_sigma_rotation);
   // e = D·ξ with D = diag(1, 1, 1, ½, ½, ½): Cov(e) = D·C·D, Ω = Cov(e)⁻¹.
   Eigen::Matrix<double, 6, 1> d;
   d << 1.0, 1.0, 1.0, 0.5, 0.5, 0.5;

@@ -84,6 +84,11 @@ std::vector<DescriptorMatch> pnp_inlier_matches(const FrameFeatures& ref,
 Eigen::Matrix<double, 6, 6> inverse_covariance(const SE3d& T,
                                                const Eigen::Matrix<double, 6, 6>& covariance);
 
+// A measurement's covariance over the right tangent (ρ, ω), symmetrized,
+// with the given standard deviations added to its diagonal.
+Eigen::Matrix<double, 6, 6> floored_covariance(const Eigen::Matrix<double, 6, 6>& covariance,
+                                               double min_sigma_translation, double min_sigma_rotation);
+
 // Information of a pose-graph edge (error [t_E; q_E.xyz], pose_graph.h)
 // from a measurement's covariance over the right tangent (ρ, ω), floored by
 // the given standard deviations: near zero, t_E ≈ ρ and q_E.xyz ≈ ω/2.
