@@ -132,7 +132,13 @@ void write_stats(JsonWriter& j, const RgbdSlamStats& st, const RgbdSlamRunResult
   j.key("loop_checks").value(st.loop_checks).key("loops_accepted").value(st.loops_accepted);
   j.key("optimizations").value(st.optimizations);
   j.key("icp_edges").value(st.icp_edges).key("icp_refused").value(st.icp_refused);
-  j.key("tracking_rmse_px").value(st.tracking_rmse_px);
+  // Null until a frame has been tracked by PnP (the first frame is not).
+  j.key("tracking_rmse_px");
+  if (st.guided_tracked + st.brute_force_tracked > 0) {
+    j.value(st.tracking_rmse_px);
+  } else {
+    j.null();
+  }
   const double fps = r.processing_seconds > 0 ? static_cast<double>(r.frames) / r.processing_seconds : 0.0;
   const double total = r.processing_seconds + r.read_seconds;
   j.key("frames_per_second").value(fps);
@@ -214,8 +220,11 @@ void print_report(const RgbdSlamCliOptions& o, const RgbdSequence& seq, const Rg
   fmt::print("rgbd-slam: {} frames of '{}' ({}, camera {}, {})\n", r.frames, printable(o.input),
              to_string(seq.format), printable(seq.camera_source),
              readout > 0.0 ? fmt::format("rolling shutter {:.1f} ms", 1000.0 * readout) : std::string("global shutter"));
-  fmt::print("  tracking: {} tracked, {} lost, {} without features; {} keyframes; reprojection RMSE {:.3f} px\n",
-             st.tracked, st.lost, st.no_features, st.keyframes, st.tracking_rmse_px);
+  fmt::print("  tracking: {} tracked, {} lost, {} without features; {} keyframes; {}\n", st.tracked, st.lost,
+             st.no_features, st.keyframes,
+             st.guided_tracked + st.brute_force_tracked > 0
+                 ? fmt::format("reprojection RMSE {:.3f} px", st.tracking_rmse_px)
+                 : std::string("no frame tracked by PnP"));
   fmt::print("  loop closure: {} of {} checks accepted; {} optimizations\n", st.loops_accepted,
              st.loop_checks, st.optimizations);
   if (slam.options().icp_voxel > 0.0) {
