@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <memory>
 #include <numbers>
+#include <numeric>
 #include <random>
 #include <vector>
 
@@ -175,14 +176,21 @@ TEST(RbpfSlam, ClosesTheSimulatedLoop) {
     }
     EXPECT_LT(walls_agree(d, odo_map, 0.15), 0.8);
   }
-  for (const std::uint64_t seed : {1u, 2u, 3u}) {
+  // Eight seeds: with 8 particles one run in ten leaves a stretch of wall
+  // a cell off (92.8–94.8 % of the cells within 0.15 m over 32 seeds, the
+  // path still within 0.13 m), so single runs are held to looser bounds
+  // than the seeds together.
+  std::vector<double> rmses, agreements;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     const Mapped m = map_drive(d, sim_options(seed));
     const RbpfSlam& slam = *m.slam;
     const double rmse = path_rmse(d, slam);
     EXPECT_LT(rmse, 0.15) << "seed " << seed;
     // The map's walls are where the true walls are: single, not doubled.
     const double agree = walls_agree(d, slam.particles()[slam.best()].map, 0.15);
-    EXPECT_GT(agree, 0.95) << "seed " << seed;
+    EXPECT_GT(agree, 0.9) << "seed " << seed;
+    rmses.push_back(rmse);
+    agreements.push_back(agree);
     std::printf("seed %d: path RMSE %.3f m, %.1f %% of the occupied cells within 0.15 m of a wall\n",
                 static_cast<int>(seed), rmse, 100.0 * agree);
     const auto nodes = path_of(slam.particles()[slam.best()]);
@@ -192,6 +200,12 @@ TEST(RbpfSlam, ClosesTheSimulatedLoop) {
     EXPECT_LT((end.translation() - truth_end.translation()).norm(), 0.15) << "seed " << seed;
     EXPECT_LT(std::abs(end.phi() - truth_end.phi()), 2.0 * kDeg) << "seed " << seed;
   }
+  // Over 32 seeds: path RMSE 0.070 m, 99.2 % of the cells on a wall (mean).
+  const auto mean = [](const std::vector<double>& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+  };
+  EXPECT_LT(mean(rmses), 0.1);
+  EXPECT_GT(mean(agreements), 0.97);
 }
 
 /// Regression test of the Intel log's bent corridors (MRPT's
@@ -202,7 +216,7 @@ TEST(RbpfSlam, ClosesTheSimulatedLoop) {
 /// kept part of the bias (−0.29° per update against rove lidar-slam's path),
 /// and after the first loop, at step 5,000, the most likely particle was
 /// 10.8 m and 93° from lidar-slam's pose there (seed 1). The mode is now
-/// refined on every point of the scan: 0.16 m and 1.2°.
+/// refined on every point of the scan: 0.09 m and 1.8°.
 TEST(RbpfSlamDatasets, IntelFirstLoopDoesNotBend) {
   const std::string log = test_data::shared_dataset("radish/intel.clf.bz2");
   const RbpfSlamConfig config = load_rbpf_slam_config(IniFile::load(test::data_path("gridmapping_intel.ini")));
