@@ -13,111 +13,136 @@ namespace rove {
 
 namespace {
 
-// Meijster's two-phase exact Euclidean distance transform of the cells
-// below `occupied_below`, writing the squared distance (in cells²;
-// UINT64_MAX without any occupied cell) and/or the index of a nearest
-// occupied cell (kNoOccupiedCell without any) of every cell.
-//
-// Memory: 4 bytes per cell besides the outputs. Phase 1 keeps only the row
-// of each cell's nearest occupied cell in its column (its distance along y
-// follows from it); phase 2 reads that row by row into a one-row buffer, so
-// the site output can hold phase 1's rows in place (24 bytes per cell
-// before, which made `rove map voronoi` on a 16000 × 16000 map need 6 GB).
-template <GridCell Cell>
-void transform(const OccupancyGridT<Cell>& grid, Cell occupied_below, std::vector<std::uint64_t>* d2,
-               std::vector<std::uint32_t>* site) {
-  const std::int64_t nx = grid.size_x(), ny = grid.size_y();
-  const auto n = static_cast<std::size_t>(nx * ny);
-  if (d2) d2->assign(n, std::numeric_limits<std::uint64_t>::max());
-  if (n == 0) {
-    if (site) site->clear();
-    return;
-  }
-  ROVE_CHECK_LT(n, std::size_t{kNoOccupiedCell});
-  constexpr std::uint32_t kNone = kNoOccupiedCell;
-  // nearest_row[i]: the row of the nearest occupied cell in i's column
-  // (kNone: the column has none). Shares the site output when there is one.
-  std::vector<std::uint32_t> own;
-  std::vector<std::uint32_t>& nearest_row = site ? *site : own;
-  nearest_row.assign(n, kNone);
-  const auto cells = grid.cells();
-  // Phase 1: per column, the row of the nearest occupied cell (upward pass,
-  // then downward; ties keep the upward's).
-  bool any = false;
-  for (std::int64_t x = 0; x < nx; ++x) {
-    std::int64_t last = -1;
-    for (std::int64_t y = 0; y < ny; ++y) {
-      const auto i = static_cast<std::size_t>(x + y * nx);
-      if (cells[i] < occupied_below) {
-        last = y;
-        any = true;
-      }
-      if (last >= 0) nearest_row[i] = static_cast<std::uint32_t>(last);
+// One row of Meijster's second phase: the lower envelope of the parabolas
+// (x − u)² + g(u)² of the row's columns u.
+class EnvelopeRow {
+  using T = std::int64_t;
+
+ public:
+  explicit EnvelopeRow(std::size_t w) : gsq_(w), h_(w), s_(w), t_(w), arg_(w) {}
+  // Writes min over u of (x − u)² + g(u)² to d2[x] and returns the
+  // minimizing u of every x (valid until the next call).
+  const std::int64_t* solve(const std::vector<std::int64_t>& g, std::vector<std::uint64_t>& d2) {
+    const auto n = static_cast<T>(g.size());
+    for (T u = 0; u < n; ++u) {
+      const T gu = g[static_cast<std::size_t>(u)];
+      gsq_[static_cast<std::size_t>(u)] = gu * gu;
+      h_[static_cast<std::size_t>(u)] = u * u + gu * gu;
     }
-    last = -1;
-    for (std::int64_t y = ny - 1; y >= 0; --y) {
-      const auto i = static_cast<std::size_t>(x + y * nx);
-      const std::uint32_t r = nearest_row[i];
-      if (r == static_cast<std::uint32_t>(y)) last = y;
-      if (last >= 0 && (r == kNone || last - y < y - static_cast<std::int64_t>(r))) {
-        nearest_row[i] = static_cast<std::uint32_t>(last);
-      }
-    }
-  }
-  if (!any) {
-    if (site) site->assign(n, kNone);
-    return;
-  }
-  // Phase 2: per row, the lower envelope of (x − u)² + g(u)²; its minimizing
-  // column u and that column's nearest row give the nearest occupied cell.
-  const std::int64_t inf = nx + ny;
-  std::vector<std::int64_t> s(static_cast<std::size_t>(nx)), t(static_cast<std::size_t>(nx));
-  std::vector<std::int64_t> g(static_cast<std::size_t>(nx));
-  std::vector<std::uint32_t> r(static_cast<std::size_t>(nx));
-  for (std::int64_t y = 0; y < ny; ++y) {
-    const std::uint32_t* row = &nearest_row[static_cast<std::size_t>(y * nx)];
-    std::copy(row, row + nx, r.begin());
-    for (std::int64_t u = 0; u < nx; ++u) {
-      const std::uint32_t ru = r[static_cast<std::size_t>(u)];
-      g[static_cast<std::size_t>(u)] = ru == kNone ? inf : std::abs(y - static_cast<std::int64_t>(ru));
-    }
-    const auto f = [&](std::int64_t x, std::int64_t i) {
-      const std::int64_t gi = g[static_cast<std::size_t>(i)];
-      return (x - i) * (x - i) + gi * gi;
-    };
-    const auto sep = [&](std::int64_t i, std::int64_t u) {
-      const std::int64_t gi = g[static_cast<std::size_t>(i)], gu = g[static_cast<std::size_t>(u)];
-      return (u * u - i * i + gu * gu - gi * gi) / (2 * (u - i));
-    };
-    std::int64_t q = 0;
-    s[0] = 0;
-    t[0] = 0;
-    for (std::int64_t u = 1; u < nx; ++u) {
-      while (q >= 0 && f(t[static_cast<std::size_t>(q)], s[static_cast<std::size_t>(q)]) >
-                           f(t[static_cast<std::size_t>(q)], u))
+    // f(x, i) = (x − i)² + g(i)²; u's parabola is below i's (i < u) from
+    // x = 1 + (h(u) − h(i)) / (2(u − i)) on (Meijster's Sep, in integer
+    // division).
+    const auto f = [&](T x, T i) { return (x - i) * (x - i) + gsq_[static_cast<std::size_t>(i)]; };
+    T q = 0;
+    s_[0] = 0;
+    t_[0] = 0;
+    for (T u = 1; u < n; ++u) {
+      while (q >= 0 && f(t_[static_cast<std::size_t>(q)], s_[static_cast<std::size_t>(q)]) >
+                           f(t_[static_cast<std::size_t>(q)], u))
         --q;
       if (q < 0) {
         q = 0;
-        s[0] = u;
+        s_[0] = u;
       } else {
-        const std::int64_t w = 1 + sep(s[static_cast<std::size_t>(q)], u);
-        if (w < nx) {
+        const T i = s_[static_cast<std::size_t>(q)];
+        const T wq = 1 + (h_[static_cast<std::size_t>(u)] - h_[static_cast<std::size_t>(i)]) / (2 * (u - i));
+        if (wq < n) {
           ++q;
-          s[static_cast<std::size_t>(q)] = u;
-          t[static_cast<std::size_t>(q)] = w;
+          s_[static_cast<std::size_t>(q)] = u;
+          t_[static_cast<std::size_t>(q)] = wq;
         }
       }
     }
-    for (std::int64_t x = nx - 1; x >= 0; --x) {
-      const std::int64_t u = s[static_cast<std::size_t>(q)];
-      const auto i = static_cast<std::size_t>(x + y * nx);
-      if (d2) (*d2)[i] = static_cast<std::uint64_t>(f(x, u));
-      if (site) {
-        const std::uint32_t ru = r[static_cast<std::size_t>(u)];
-        (*site)[i] = ru == kNone ? kNone : static_cast<std::uint32_t>(u + static_cast<std::int64_t>(ru) * nx);
-      }
-      if (x == t[static_cast<std::size_t>(q)]) --q;
+    for (T x = n - 1; x >= 0; --x) {
+      const T u = s_[static_cast<std::size_t>(q)];
+      d2[static_cast<std::size_t>(x)] = static_cast<std::uint64_t>(f(x, u));
+      arg_[static_cast<std::size_t>(x)] = u;
+      if (x == t_[static_cast<std::size_t>(q)]) --q;
     }
+    return arg_.data();
+  }
+
+ private:
+  std::vector<T> gsq_, h_, s_, t_, arg_;
+};
+
+// Meijster's two-phase exact Euclidean distance transform of the cells
+// below `occupied_below`, delivered row by row: sink(y, d2, site) for every
+// row y from the top row (ny − 1) down, d2 the row's squared distances (in
+// cells²; UINT64_MAX without any occupied cell) and site, when `sites`,
+// the index of a nearest occupied cell of each (kNoOccupiedCell without
+// any); both valid during the call.
+//
+// Memory: `up` holds 4 bytes per cell, besides a few rows of work space.
+// Phase 1 runs up the rows from y = 0, all columns together (row-major:
+// the cache lines are read in order): up[i] is the row of the nearest
+// occupied cell at or below i in its column. Phase 2 comes back down from
+// the top row, carries the nearest occupied row at or above in each
+// column, takes the nearer of the two (ties: the lower one) and finds the
+// row's lower envelope at once. Row y of `up` is read before the sink is called for
+// row y, so the sink may write the sites of row y over it (the site output
+// of nearest_occupied_cell holds phase 1's rows: 24 bytes per cell before,
+// which made `rove map voronoi` on a 16000 × 16000 map need 6 GB).
+template <GridCell Cell, typename Sink>
+void transform(const OccupancyGridT<Cell>& grid, Cell occupied_below, bool sites,
+               std::vector<std::uint32_t>& up, const Sink& sink) {
+  const std::int64_t nx = grid.size_x(), ny = grid.size_y();
+  const auto n = static_cast<std::size_t>(nx * ny);
+  if (n == 0) return;
+  ROVE_CHECK_LT(n, std::size_t{kNoOccupiedCell});
+  constexpr std::uint32_t kNone = kNoOccupiedCell;
+  const auto w = static_cast<std::size_t>(nx);
+  up.resize(n);
+  const auto cells = grid.cells();
+  // Phase 1, first half: per column, the row of the nearest occupied cell
+  // at or below each cell.
+  bool any = false;
+  for (std::int64_t y = 0; y < ny; ++y) {
+    const Cell* row = cells.data() + static_cast<std::size_t>(y) * w;
+    std::uint32_t* u = up.data() + static_cast<std::size_t>(y) * w;
+    const std::uint32_t* below = y > 0 ? u - w : nullptr;
+    const auto yy = static_cast<std::uint32_t>(y);
+    for (std::size_t x = 0; x < w; ++x) {
+      const bool occupied = row[x] < occupied_below;
+      any |= occupied;
+      u[x] = occupied ? yy : (below != nullptr ? below[x] : kNone);
+    }
+  }
+  std::vector<std::uint64_t> d2(w, std::numeric_limits<std::uint64_t>::max());
+  std::vector<std::uint32_t> site(sites ? w : 0, kNone);
+  if (!any) {
+    for (std::int64_t y = ny - 1; y >= 0; --y) sink(y, d2.data(), sites ? site.data() : nullptr);
+    return;
+  }
+  // Phase 2 comes down from the top row: `above` is the row of the nearest
+  // occupied cell at or above in each column; r the nearer of the two
+  // (ties: the one below).
+  std::vector<std::uint32_t> above(w, kNone), r(w);
+  // Phase 2: per row, the lower envelope of (x − u)² + g(u)²; its minimizing
+  // column u and that column's nearest row give the nearest occupied cell.
+  const std::int64_t inf = nx + ny;
+  std::vector<std::int64_t> g(w);
+  EnvelopeRow envelope(w);
+  for (std::int64_t y = ny - 1; y >= 0; --y) {
+    const Cell* row = cells.data() + static_cast<std::size_t>(y) * w;
+    const std::uint32_t* u_row = up.data() + static_cast<std::size_t>(y) * w;
+    const auto yy = static_cast<std::uint32_t>(y);
+    for (std::size_t x = 0; x < w; ++x) {
+      if (row[x] < occupied_below) above[x] = yy;
+      const std::uint32_t lo = u_row[x], hi = above[x];
+      std::uint32_t best = lo;
+      if (hi != kNone && (lo == kNone || hi - yy < yy - lo)) best = hi;
+      r[x] = best;
+      g[x] = best == kNone ? inf : std::abs(y - static_cast<std::int64_t>(best));
+    }
+    const std::int64_t* v = envelope.solve(g, d2);
+    if (sites) {
+      for (std::size_t x = 0; x < w; ++x) {
+        const auto u = static_cast<std::size_t>(v[x]);
+        site[x] = r[u] == kNone ? kNone : static_cast<std::uint32_t>(u + std::size_t{r[u]} * w);
+      }
+    }
+    sink(y, d2.data(), sites ? site.data() : nullptr);
   }
 }
 
@@ -126,9 +151,36 @@ void transform(const OccupancyGridT<Cell>& grid, Cell occupied_below, std::vecto
 template <GridCell Cell>
 std::vector<std::uint64_t> squared_distance_to_occupied(const OccupancyGridT<Cell>& grid,
                                                         Cell occupied_below) {
-  std::vector<std::uint64_t> d2;
-  transform(grid, occupied_below, &d2, nullptr);
+  std::vector<std::uint64_t> d2(grid.cells().size());
+  std::vector<std::uint32_t> up;
+  const std::size_t w = grid.size_x();
+  transform(grid, occupied_below, false, up, [&](std::int64_t y, const std::uint64_t* row, const std::uint32_t*) {
+    std::copy(row, row + w, d2.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * w));
+  });
   return d2;
+}
+
+template <GridCell Cell>
+void squared_distance_rows(const OccupancyGridT<Cell>& grid, Cell occupied_below,
+                           const std::function<void(std::uint32_t, std::span<const std::uint64_t>)>& row) {
+  std::vector<std::uint32_t> up;
+  const std::size_t w = grid.size_x();
+  transform(grid, occupied_below, false, up, [&](std::int64_t y, const std::uint64_t* d2, const std::uint32_t*) {
+    row(static_cast<std::uint32_t>(y), std::span<const std::uint64_t>(d2, w));
+  });
+}
+
+double SqrtTable::operator()(std::uint64_t k) const noexcept {
+  return k < kSize ? values_[k] : std::sqrt(static_cast<double>(k));
+}
+
+const SqrtTable& SqrtTable::instance() {
+  static const SqrtTable table;
+  return table;
+}
+
+SqrtTable::SqrtTable() : values_(kSize) {
+  for (std::size_t k = 0; k < kSize; ++k) values_[k] = std::sqrt(static_cast<double>(k));
 }
 
 template <GridCell Cell>
@@ -137,23 +189,30 @@ std::vector<float> clearance_map(const OccupancyGridT<Cell>& grid, float occupie
                  "occupied_threshold {} is outside [0, 1]", occupied_threshold);
   // Raw values below p2l(threshold) have p(free) below the threshold.
   const Cell below = LogOddsLut<Cell>::instance().p2l(occupied_threshold);
-  const auto d2 = squared_distance_to_occupied(grid, below);
-  std::vector<float> out(d2.size());
+  std::vector<float> out(grid.cells().size());
   const double res = grid.resolution();
-  for (std::size_t i = 0; i < d2.size(); ++i) {
-    out[i] = d2[i] == std::numeric_limits<std::uint64_t>::max()
-                 ? std::numeric_limits<float>::infinity()
-                 : static_cast<float>(std::sqrt(static_cast<double>(d2[i])) * res);
-  }
+  const SqrtTable& root = SqrtTable::instance();
+  const std::size_t w = grid.size_x();
+  std::vector<std::uint32_t> up;
+  transform(grid, below, false, up, [&](std::int64_t y, const std::uint64_t* d2, const std::uint32_t*) {
+    float* o = out.data() + static_cast<std::size_t>(y) * w;
+    for (std::size_t x = 0; x < w; ++x) {
+      o[x] = d2[x] == std::numeric_limits<std::uint64_t>::max() ? std::numeric_limits<float>::infinity()
+                                                                 : static_cast<float>(root(d2[x]) * res);
+    }
+  });
   return out;
 }
-
 
 template <GridCell Cell>
 std::vector<std::uint32_t> nearest_occupied_cell(const OccupancyGridT<Cell>& grid,
                                                  Cell occupied_below) {
+  // Phase 1's rows are kept in the output and overwritten by the sites.
   std::vector<std::uint32_t> site;
-  transform(grid, occupied_below, nullptr, &site);
+  const std::size_t w = grid.size_x();
+  transform(grid, occupied_below, true, site, [&](std::int64_t y, const std::uint64_t*, const std::uint32_t* row) {
+    std::copy(row, row + w, site.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * w));
+  });
   return site;
 }
 
@@ -229,6 +288,10 @@ template std::vector<std::uint64_t> squared_distance_to_occupied(const Occupancy
                                                                  std::int8_t);
 template std::vector<std::uint64_t> squared_distance_to_occupied(
     const OccupancyGridT<std::int16_t>&, std::int16_t);
+template void squared_distance_rows(const OccupancyGridT<std::int8_t>&, std::int8_t,
+                                    const std::function<void(std::uint32_t, std::span<const std::uint64_t>)>&);
+template void squared_distance_rows(const OccupancyGridT<std::int16_t>&, std::int16_t,
+                                    const std::function<void(std::uint32_t, std::span<const std::uint64_t>)>&);
 template std::vector<float> clearance_map(const OccupancyGridT<std::int8_t>&, float);
 template std::vector<float> clearance_map(const OccupancyGridT<std::int16_t>&, float);
 template std::vector<std::uint32_t> nearest_occupied_cell(const OccupancyGridT<std::int8_t>&,

@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <utility>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -100,6 +102,34 @@ TEST(GridClearance, DistanceTransformMatchesBruteForce) {
               best = std::min<std::uint64_t>(best, static_cast<std::uint64_t>((u - x) * (u - x) + (v - y) * (v - y)));
         ASSERT_EQ(d2[g.index(x, y)], best) << x << "," << y;
       }
+    }
+  }
+}
+
+// The transform delivered row by row: every row once, the same values as
+// the whole transform (and as brute force, above), on sparse and dense
+// obstacles, single rows and columns, and a grid without obstacles.
+TEST(GridClearance, RowsByRowEqualTheWholeTransform) {
+  std::mt19937 rng(13);
+  const std::pair<float, float> sizes[] = {{0.1f, 2.0f}, {2.0f, 0.1f}, {3.3f, 2.7f}, {0.1f, 0.1f}};
+  for (int trial = 0; trial < 24; ++trial) {
+    const auto [w, h] = sizes[trial % 4];
+    OccupancyGrid g(0, w, 0, h, 0.1f);
+    std::bernoulli_distribution occupied(trial < 8 ? 0.02 : trial < 16 ? 0.5 : 0.0);
+    for (auto& c : g.mutable_cells()) c = occupied(rng) ? std::int8_t{-100} : std::int8_t{100};
+    const auto whole = squared_distance_to_occupied(g, std::int8_t{0});
+    std::vector<int> seen(g.size_y(), 0);
+    squared_distance_rows(g, std::int8_t{0}, [&](std::uint32_t y, std::span<const std::uint64_t> d2) {
+      ASSERT_LT(y, g.size_y());
+      ASSERT_EQ(d2.size(), g.size_x());
+      ++seen[y];
+      for (std::uint32_t x = 0; x < g.size_x(); ++x) {
+        ASSERT_EQ(d2[x], whole[g.index(static_cast<int>(x), static_cast<int>(y))]) << x << "," << y;
+      }
+    });
+    for (std::uint32_t y = 0; y < g.size_y(); ++y) EXPECT_EQ(seen[y], 1) << "row " << y;
+    if (trial >= 16) {
+      for (const auto v : whole) ASSERT_EQ(v, std::numeric_limits<std::uint64_t>::max());
     }
   }
 }

@@ -16,8 +16,8 @@ namespace rove {
 namespace {
 
 // Work space of a build per cell: the obstacle flag, the clearance and the
-// squared distances of the transform.
-constexpr std::uint64_t kBytesPerCell = 1 + 4 + 8;
+// transform's column pass (its squared distances come a row at a time).
+constexpr std::uint64_t kBytesPerCell = 1 + 4 + 4;
 
 void check_budget(std::uint32_t size_x, std::uint32_t size_y) {
   check_memory_budget(checked_bytes(static_cast<std::uint64_t>(size_x) * size_y, kBytesPerCell),
@@ -61,15 +61,16 @@ NavigationGrid NavigationGrid::from_occupancy(const OccupancyGridT<Cell>& grid,
   const auto cells = grid.cells();
   g.occupied_.resize(cells.size());
   for (std::size_t i = 0; i < cells.size(); ++i) g.occupied_[i] = cells[i] < first_free ? 1 : 0;
-  std::vector<std::uint64_t> d2;
+  g.clearance_.resize(cells.size());
   if (first_free > Traits::kMax) {
-    d2.assign(cells.size(), 0);  // every cell is an obstacle
+    // Every cell is an obstacle.
+    std::fill(g.clearance_.begin(), g.clearance_.end(), 0.0f);
   } else {
     // The most negative raw value is never produced and reads as kMin, so
     // kMin as the bound means "no obstacle" for the transform too.
-    d2 = squared_distance_to_occupied(grid, static_cast<Cell>(std::max(first_free, Traits::kMin)));
+    squared_distance_rows(grid, static_cast<Cell>(std::max(first_free, Traits::kMin)),
+                          [&g](std::uint32_t cy, std::span<const std::uint64_t> d2) { g.clearance_row(cy, d2); });
   }
-  g.compute_clearance(std::move(d2));
   return g;
 }
 
@@ -100,24 +101,24 @@ NavigationGrid NavigationGrid::from_mask(std::uint32_t size_x, std::uint32_t siz
   g.resolution_ = resolution;
   g.occupied_ = std::move(occupied);
   for (auto& o : g.occupied_) o = o ? 1 : 0;
-  g.compute_clearance(squared_distance_to_occupied(tmp, std::int8_t{0}));
+  g.clearance_.resize(g.occupied_.size());
+  squared_distance_rows(tmp, std::int8_t{0},
+                        [&g](std::uint32_t cy, std::span<const std::uint64_t> d2) { g.clearance_row(cy, d2); });
   return g;
 }
 
-void NavigationGrid::compute_clearance(std::vector<std::uint64_t> d2) {
-  clearance_.resize(d2.size());
-  const std::int64_t nx = size_x_, ny = size_y_;
-  for (std::int64_t cy = 0; cy < ny; ++cy) {
-    const std::int64_t ring_y = std::min(cy + 1, ny - cy);
-    for (std::int64_t cx = 0; cx < nx; ++cx) {
-      const auto i = static_cast<std::size_t>(cx + cy * nx);
-      // The ring of outside cells is at ring distance along one axis.
-      const auto ring = static_cast<double>(std::min({cx + 1, nx - cx, ring_y}));
-      const double d = d2[i] == std::numeric_limits<std::uint64_t>::max()
-                           ? ring
-                           : std::min(ring, std::sqrt(static_cast<double>(d2[i])));
-      clearance_[i] = occupied_[i] ? 0.0f : static_cast<float>(d * resolution_);
-    }
+void NavigationGrid::clearance_row(std::uint32_t cy, std::span<const std::uint64_t> d2) {
+  const std::int64_t nx = size_x_, ny = size_y_, y = cy;
+  const std::int64_t ring_y = std::min(y + 1, ny - y);
+  const SqrtTable& root = SqrtTable::instance();
+  float* out = clearance_.data() + static_cast<std::size_t>(y * nx);
+  const std::uint8_t* occupied = occupied_.data() + static_cast<std::size_t>(y * nx);
+  for (std::int64_t cx = 0; cx < nx; ++cx) {
+    const auto i = static_cast<std::size_t>(cx);
+    // The ring of outside cells is at ring distance along one axis.
+    const auto ring = static_cast<double>(std::min({cx + 1, nx - cx, ring_y}));
+    const double d = d2[i] == std::numeric_limits<std::uint64_t>::max() ? ring : std::min(ring, root(d2[i]));
+    out[i] = occupied[i] ? 0.0f : static_cast<float>(d * resolution_);
   }
 }
 

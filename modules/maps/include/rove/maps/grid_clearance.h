@@ -7,6 +7,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <vector>
 
 #include "rove/maps/occupancy_grid.h"
@@ -19,6 +21,27 @@ namespace rove {
 template <GridCell Cell>
 std::vector<std::uint64_t> squared_distance_to_occupied(const OccupancyGridT<Cell>& grid,
                                                         Cell occupied_below);
+
+/// squared_distance_to_occupied delivered row by row, without holding the
+/// whole result: row(y, d2) for every row y (the top row first, then down),
+/// d2 that row's squared distances, valid during the call. Memory: 4 bytes
+/// per cell and a few rows.
+template <GridCell Cell>
+void squared_distance_rows(const OccupancyGridT<Cell>& grid, Cell occupied_below,
+                           const std::function<void(std::uint32_t, std::span<const std::uint64_t>)>& row);
+
+/// √k for the squared distances of a transform: a table of the small ones
+/// (the same doubles as std::sqrt), std::sqrt beyond it.
+class SqrtTable {
+ public:
+  static const SqrtTable& instance();
+  double operator()(std::uint64_t k) const noexcept;
+
+ private:
+  SqrtTable();
+  static constexpr std::size_t kSize = 4096;
+  std::vector<double> values_;
+};
 
 /// Clearance map: distance in meters from each cell's center to the center
 /// of the nearest occupied cell (p(free) < occupied_threshold), row by row;

@@ -35,7 +35,7 @@ class NavigationGrid {
   /// From an occupancy grid: obstacles are the cells whose p(free) is at
   /// most `occupancy_threshold` (MRPT's `occupancyThreshold`, default 0.5).
   /// Preconditions (InvalidArgument): occupancy_threshold ∈ [0, 1]. Throws
-  /// ResourceError when the work space (13 bytes per cell) exceeds the
+  /// ResourceError when the work space (9 bytes per cell) exceeds the
   /// memory budget.
   template <GridCell Cell>
   static NavigationGrid from_occupancy(const OccupancyGridT<Cell>& grid,
@@ -132,7 +132,8 @@ class NavigationGrid {
 
  private:
   static int to_cell(double q) noexcept;
-  void compute_clearance(std::vector<std::uint64_t> d2);
+  // The clearances of row cy from its squared distances to an obstacle.
+  void clearance_row(std::uint32_t cy, std::span<const std::uint64_t> d2);
 
   std::uint32_t size_x_ = 0, size_y_ = 0;
   double x_min_ = 0, y_min_ = 0, resolution_ = 1;
