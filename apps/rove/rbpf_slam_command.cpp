@@ -43,14 +43,16 @@ struct Reference {
 // and what the update did.
 void write_ess(const fs::path& path, const RbpfSlamResult& res) {
   std::string text =
-      "step,time,ess,effective_particles,resampled,inserted,fallbacks,distinct_tiles,fit,seconds\n";
+      "step,time,ess,effective_particles,resampled,inserted,fallbacks,distinct_tiles,fit,through_walls,"
+      "seconds\n";
   const double n = static_cast<double>(res.options.particles);
   for (const auto& s : res.steps) {
     if (!s.updated) continue;
-    fmt::format_to(std::back_inserter(text), "{},{:.6f},{:.6f},{:.3f},{},{},{},{},{:.4f},{:.6f}\n",
+    fmt::format_to(std::back_inserter(text), "{},{:.6f},{:.6f},{:.3f},{},{},{},{},{:.4f},{:.4f},{:.6f}\n",
                    s.index, s.time.valid() ? s.time.to_seconds() : -1.0, s.update.ess,
                    s.update.ess * n, s.update.resampled ? 1 : 0, s.inserted ? 1 : 0,
-                   s.update.fallbacks, s.update.distinct_tiles, s.update.fit, s.seconds);
+                   s.update.fallbacks, s.update.distinct_tiles, s.update.fit, s.update.through_walls,
+                   s.seconds);
   }
   write_text_file_atomically(path, text);
 }
@@ -114,6 +116,7 @@ std::string summary_json(const RbpfSlamCliOptions& o, const std::string& config,
   j.key("peak_distinct_tiles").value(res.peak_tiles);
   j.key("peak_tile_bytes").value(res.peak_tile_bytes);
   j.key("unshared_tiles").value(res.unshared_tiles);
+  j.key("contradicted_updates").value(res.contradicted_updates);
   j.key("mapping_seconds").value(res.mapping_seconds);
   j.key("seconds_per_scan").value(res.scans ? res.mapping_seconds / static_cast<double>(res.scans) : 0.0);
   j.key("seconds_per_step_max").value(max_step);
@@ -149,6 +152,8 @@ void print_text(const std::string& config, const std::string& rawlog, const Rbpf
              res.options.particles, mrpt_name(res.options.proposal), res.updates, res.insertions);
   fmt::print("  result: {}\n", res.message);
   fmt::print("  final pose: {}\n", res.path.back().as_string());
+  fmt::print("  scans against the map: {} of {} updates with more than {:.0f} % of the rays through walls\n",
+             res.contradicted_updates, res.updates, 100.0 * kContradictedRays);
   fmt::print("  map: {} x {} cells of {:g} m; tiles: {} distinct at peak ({:.1f} MB), {} unshared\n",
              res.map.size_x(), res.map.size_y(), res.map.resolution(), res.peak_tiles,
              static_cast<double>(res.peak_tile_bytes) / 1e6, res.unshared_tiles);

@@ -67,3 +67,15 @@ add_test(NAME cli.rbpf_slam_ro_reference_refused COMMAND ${CMAKE_COMMAND}
 add_test(NAME cli.rbpf_slam_grid_truth_refused COMMAND ${CMAKE_COMMAND}
   "-DCOMMAND=$<TARGET_FILE:rove> rbpf-slam --no-progress ${rove_rbpf_ini} ${rove_rbpf_rawlog} --ground-truth ${rove_ro_truth} -o ${rove_rbpf_dir}/grid_truth"
   -DEXIT=1 "-DREGEX=--ground-truth takes beacon positions" -P ${rove_rbpf_expect})
+
+# The Telecom config (1 m / 40° between updates, 0.07 m) on the first 4,000
+# steps of the Intel log: the first loop closes wrong, the return's scans
+# see through the first pass's walls and the run says so (exit 3), with
+# its outputs written.
+add_test(NAME cli.rbpf_slam_contradicted_map COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> rbpf-slam --no-progress ${rove_rbpf_ini} ${ROVE_DATASETS_DIR}/radish/intel.clf.bz2 --max-steps 4000 --seed 1 -o ${rove_rbpf_dir}/contradicted"
+  -DEXIT=3 "-DREGEX=scans against the map: [0-9]+ of [0-9]+ updates with more than 20 % of the rays through walls.*map-contradicts-scans: in [0-9]+ of [0-9]+ updates"
+  -DFILE=${rove_rbpf_dir}/contradicted/ess.csv "-DFILE_REGEX=^step,time,ess,effective_particles,resampled,inserted,fallbacks,distinct_tiles,fit,through_walls,seconds"
+  -P ${rove_rbpf_expect})
+set_tests_properties(cli.rbpf_slam_contradicted_map PROPERTIES LABELS cli)
+rove_dataset_tests(cli.rbpf_slam_contradicted_map)

@@ -149,6 +149,7 @@ py::object rbpf_slam(const Path& rawlog, const Path& config, py::handle override
   d["insertions"] = r.insertions;
   d["scans"] = r.scans;
   d["mapping_seconds"] = r.mapping_seconds;
+  d["contradicted_updates"] = r.contradicted_updates;
   d["issues"] = issue_list(r.issues);
   d["map"] = py::cast(std::move(r.map));  // moved, not copied: `cells` is a view of it
   return namespace_of(d);

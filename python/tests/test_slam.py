@@ -132,6 +132,8 @@ def test_rbpf_slam_equals_the_command_line(tmp_path):
     assert r.scans == cli["scans"]
     np.testing.assert_array_equal(r.path[-1], [cli["final_pose"][k] for k in ("x", "y", "phi")])
     assert (r.map.size_x, r.map.size_y) == (cli["map_cells"]["x"], cli["map_cells"]["y"])
+    assert r.contradicted_updates == cli["contradicted_updates"]
+    assert [code for code, _ in r.issues] == [i["code"] for i in cli["issues"]]
     cells = r.map.cells
     assert cells.__array_interface__["data"][0] == r.map._cells_address()
 

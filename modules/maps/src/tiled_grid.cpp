@@ -819,4 +819,71 @@ double TiledLikelihoodField::fit(const TiledGrid& grid, const TiledScanPoints& s
   return static_cast<double>(near) / static_cast<double>(n);
 }
 
+RaysThroughOccupied rays_through_occupied(const TiledGrid& grid, const RangeScan2D& scan,
+                                          const SE2d& T_map_robot, double margin) {
+  scan.check();
+  ROVE_CHECK_MSG(std::isfinite(margin) && margin >= 0.0, "margin must be finite and >= 0, got {}", margin);
+  ROVE_CHECK_MSG(T_map_robot.translation().allFinite() && std::isfinite(T_map_robot.angle()),
+                 "the robot pose is not finite");
+  RaysThroughOccupied out;
+  const double inv = 1.0 / static_cast<double>(grid.resolution());
+  const Eigen::Vector2d origin =
+      T_map_robot * Eigen::Vector2d(scan.T_robot_sensor.x(), scan.T_robot_sensor.y());
+  const double ux = origin.x() * inv, uy = origin.y() * inv;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kMaxCells = 1 << 20;
+  for (const Eigen::Vector2d& p : scan.points_2d(ScanFrame::Robot)) {
+    const Eigen::Vector2d d = T_map_robot * p - origin;
+    const double length = d.norm();
+    if (!(length > margin)) continue;
+    // The segment's end, `margin` before the return, in cell units.
+    const double k = (length - margin) / length;
+    const double vx = ux + d.x() * k * inv, vy = uy + d.y() * k * inv;
+    if (!(std::fabs(ux) < kMaxCells * 512 && std::fabs(uy) < kMaxCells * 512 &&
+          std::fabs(vx - ux) + std::fabs(vy - uy) < kMaxCells)) {
+      continue;
+    }
+    ++out.rays;
+    // Amanatides & Woo's traversal: from the origin's cell to the end's, one
+    // cell boundary at a time (t: the fraction of the segment done).
+    auto cx = static_cast<std::int64_t>(std::floor(ux)), cy = static_cast<std::int64_t>(std::floor(uy));
+    const auto ex = static_cast<std::int64_t>(std::floor(vx)), ey = static_cast<std::int64_t>(std::floor(vy));
+    const double dx = vx - ux, dy = vy - uy;
+    const std::int64_t sx = ex > cx ? 1 : -1, sy = ey > cy ? 1 : -1;
+    const double tdx = dx != 0.0 ? std::fabs(1.0 / dx) : kInf, tdy = dy != 0.0 ? std::fabs(1.0 / dy) : kInf;
+    double tx = ex == cx ? kInf : (sx > 0 ? (static_cast<double>(cx) + 1.0 - ux) : (ux - static_cast<double>(cx))) * tdx;
+    double ty = ey == cy ? kInf : (sy > 0 ? (static_cast<double>(cy) + 1.0 - uy) : (uy - static_cast<double>(cy))) * tdy;
+    std::int64_t steps = std::abs(ex - cx) + std::abs(ey - cy);
+    // The tile under the ray, looked up again only when the ray leaves it.
+    const GridTile* tile = nullptr;
+    std::int64_t tile_x = 0, tile_y = 0;
+    bool have_tile = false;
+    const auto occupied = [&](std::int64_t x, std::int64_t y) {
+      const std::int64_t tx = x >> GridTile::kLogSide, ty = y >> GridTile::kLogSide;
+      if (!have_tile || tx != tile_x || ty != tile_y) {
+        tile = grid.tile_at(static_cast<int>(x), static_cast<int>(y));
+        tile_x = tx;
+        tile_y = ty;
+        have_tile = true;
+      }
+      return tile != nullptr && ((tile->occupied[static_cast<std::size_t>(y & kMask)] >> (x & kMask)) & 1u) != 0;
+    };
+    bool through = occupied(cx, cy);
+    while (!through && steps > 0) {
+      // Each axis stops at its end cell, whatever the rounding of t says.
+      if ((tx < ty && cx != ex) || cy == ey) {
+        cx += sx;
+        tx += tdx;
+      } else {
+        cy += sy;
+        ty += tdy;
+      }
+      --steps;
+      through = occupied(cx, cy);
+    }
+    out.through += through ? 1 : 0;
+  }
+  return out;
+}
+
 }  // namespace rove

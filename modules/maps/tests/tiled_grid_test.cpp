@@ -360,5 +360,54 @@ TEST(TiledGrid, DeclinedScanChangesNothing) {
   EXPECT_THROW(g.squared_distance_to_occupied(0, 0, 32), InvalidArgument);
 }
 
+// Rays through walls: a wall of occupied cells across the rays' path.
+TEST(TiledGrid, RaysThroughOccupiedCountsRaysThatCrossAWall) {
+  TiledGrid g(0.1f);
+  // A wall at x ∈ [2.0, 2.1) m for y ∈ [−1, 1) m, and one at y ∈ [−5.0, −4.9)
+  // for x ∈ [−8, −2): the second in negative cells, across tiles.
+  for (int cy = -10; cy < 10; ++cy) g.set_cell(20, cy, -100);
+  for (int cx = -80; cx < -20; ++cx) g.set_cell(cx, -50, -100);
+  RangeScan2D scan;
+  scan.aperture = 0.2;
+  scan.set_ranges({5.0f, 5.0f, 5.0f});
+  // Returns 5 m away, beyond the wall: every ray crossed it.
+  RaysThroughOccupied r = rays_through_occupied(g, scan, SE2d(), 0.5);
+  EXPECT_EQ(r.rays, 3u);
+  EXPECT_EQ(r.through, 3u);
+  EXPECT_DOUBLE_EQ(r.fraction(), 1.0);
+  // The margin stops the segments before the wall (at 1.5 m).
+  r = rays_through_occupied(g, scan, SE2d(), 3.5);
+  EXPECT_EQ(r.rays, 3u);
+  EXPECT_EQ(r.through, 0u);
+  // Returns shorter than the margin are not counted at all.
+  r = rays_through_occupied(g, scan, SE2d(), 6.0);
+  EXPECT_EQ(r.rays, 0u);
+  EXPECT_EQ(r.fraction(), 0.0);
+  // Returns on the wall itself: the free part stops short of it.
+  scan.set_ranges({2.05f, 2.05f, 2.05f});
+  r = rays_through_occupied(g, scan, SE2d(), 0.5);
+  EXPECT_EQ(r.through, 0u);
+  // One ray of three beyond the wall.
+  scan.set_ranges({1.5f, 4.0f, 1.5f});
+  r = rays_through_occupied(g, scan, SE2d(), 0.2);
+  EXPECT_EQ(r.rays, 3u);
+  EXPECT_EQ(r.through, 1u);
+  // Turned away from the wall: nothing in the way.
+  scan.set_ranges({5.0f, 5.0f, 5.0f});
+  EXPECT_EQ(rays_through_occupied(g, scan, SE2d(0.0, 0.0, std::numbers::pi), 0.5).through, 0u);
+  // Looking down (−y) from (−4.95, −3.05): through the second wall at −5 m,
+  // in negative cells and across a tile boundary.
+  r = rays_through_occupied(g, scan, SE2d(-4.95, -3.05, -std::numbers::pi / 2), 0.5);
+  EXPECT_EQ(r.through, 3u);
+  // The sensor's offset on the robot counts: 2.5 m ahead of the robot the
+  // sensor is past the first wall already.
+  scan.T_robot_sensor = Pose3(2.5, 0.0, 0.0, 0.0, 0.0, 0.0);
+  EXPECT_EQ(rays_through_occupied(g, scan, SE2d(), 0.5).through, 0u);
+  // Bad input.
+  EXPECT_THROW(rays_through_occupied(g, scan, SE2d(), -1.0), InvalidArgument);
+  EXPECT_THROW(rays_through_occupied(g, scan, SE2d(), std::nan("")), InvalidArgument);
+  EXPECT_THROW(rays_through_occupied(g, scan, SE2d(std::nan(""), 0.0, 0.0), 0.5), InvalidArgument);
+}
+
 }  // namespace
 }  // namespace rove

@@ -425,6 +425,10 @@ RbpfUpdateResult RbpfSlam::update(const OdometryIncrement& motion, const RangeSc
   result.ess = w.ess;
   const RbpfParticle& top = particles_[w.best];
   result.fit = top.map.empty() ? 1.0 : impl_->field.fit(top.map, points, top.pose);
+  if (!top.map.empty()) {
+    const double margin = std::max(RbpfUpdateResult::kThroughWallsMargin, 4.0 * res);
+    result.through_walls = rays_through_occupied(top.map, scan, top.pose, margin).fraction();
+  }
   if (result.ess < options_.beta) {
     detail::resample(particles_, log_weights_, options_.resampling, seed);
     result.resampled = true;

@@ -19,19 +19,23 @@ namespace {
 
 void conclude(RbpfSlamResult& res, const RbpfSlam& slam, const RbpfSlamConfig& config) {
   res.issues = detail::filter_issues(res.steps, slam.options().particles, config);
-  std::size_t n = 0;
-  double fit_sum = 0.0;
-  for (const auto& s : res.steps) {
-    if (!s.updated) continue;
-    ++n;
-    fit_sum += s.update.fit;
-  }
-  if (n > 0 && fit_sum / static_cast<double>(n) < 0.5) {
+  const RbpfScanChecks c = scan_checks(res.steps);
+  res.contradicted_updates = c.contradicted;
+  if (c.updates > 0 && c.mean_fit < 0.5) {
     res.issues.push_back(
         {"poor-scan-fit",
          fmt::format("on average {:.0f} % of the scans' points lay within LF_maxCorrsDistance of "
                      "a wall of the most likely map (< 50 %): the map disagrees with the scans",
-                     100.0 * fit_sum / static_cast<double>(n))});
+                     100.0 * c.mean_fit)});
+  }
+  if (c.contradicted >= 3 &&
+      static_cast<double>(c.contradicted) > kContradictedUpdates * static_cast<double>(c.updates)) {
+    res.issues.push_back(
+        {"map-contradicts-scans",
+         fmt::format("in {} of {} updates more than {:.0f} % of the scan's rays crossed a wall of the "
+                     "most likely map (> {:.0f} % of the updates): parts of the map were built by "
+                     "passes that disagree, e.g. a loop closed wrong (see ess.csv, through_walls)",
+                     c.contradicted, c.updates, 100.0 * kContradictedRays, 100.0 * kContradictedUpdates)});
   }
   res.termination =
       res.issues.empty() ? RbpfSlamTermination::Completed : RbpfSlamTermination::CompletedWithIssues;
@@ -42,6 +46,19 @@ void conclude(RbpfSlamResult& res, const RbpfSlam& slam, const RbpfSlamConfig& c
 }
 
 }  // namespace
+
+RbpfScanChecks scan_checks(const std::vector<RbpfSlamStep>& steps) {
+  RbpfScanChecks c;
+  double fit_sum = 0.0;
+  for (const auto& s : steps) {
+    if (!s.updated) continue;
+    ++c.updates;
+    fit_sum += s.update.fit;
+    c.contradicted += s.update.through_walls > kContradictedRays ? 1 : 0;
+  }
+  if (c.updates > 0) c.mean_fit = fit_sum / static_cast<double>(c.updates);
+  return c;
+}
 
 std::string_view to_string(RbpfSlamTermination t) noexcept {
   switch (t) {

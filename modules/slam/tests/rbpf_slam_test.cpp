@@ -98,6 +98,8 @@ struct Mapped {
   std::unique_ptr<RbpfSlam> slam;
   std::vector<std::size_t> steps;  // steps that updated
   std::size_t resamplings = 0;
+  // Updates with more than kContradictedRays of the rays through walls.
+  std::size_t contradicted = 0;
 };
 
 Mapped map_drive(const Drive& d, const RbpfSlamOptions& options) {
@@ -117,6 +119,7 @@ Mapped map_drive(const Drive& d, const RbpfSlamOptions& options) {
                        .asDiagonal();
     const RbpfUpdateResult r = m.slam->update(u, d.scans[k], k, true);
     m.resamplings += r.resampled ? 1 : 0;
+    m.contradicted += r.through_walls > kContradictedRays ? 1 : 0;
     m.steps.push_back(k);
     acc = Pose2();
   }
@@ -191,6 +194,9 @@ TEST(RbpfSlam, ClosesTheSimulatedLoop) {
     EXPECT_GT(agree, 0.9) << "seed " << seed;
     rmses.push_back(rmse);
     agreements.push_back(agree);
+    // The scans do not contradict the map (the run is not flagged).
+    EXPECT_LE(static_cast<double>(m.contradicted), kContradictedUpdates * static_cast<double>(m.steps.size()))
+        << "seed " << seed;
     std::printf("seed %d: path RMSE %.3f m, %.1f %% of the occupied cells within 0.15 m of a wall\n",
                 static_cast<int>(seed), rmse, 100.0 * agree);
     const auto nodes = path_of(slam.particles()[slam.best()]);
@@ -206,6 +212,73 @@ TEST(RbpfSlam, ClosesTheSimulatedLoop) {
   };
   EXPECT_LT(mean(rmses), 0.1);
   EXPECT_GT(mean(agreements), 0.97);
+}
+
+/// A filter that can only follow the odometry (one particle, the motion
+/// model's proposal with a tiny spread) closes the loop where the drifting
+/// odometry puts it: the walls of the return overlay the first pass's at an
+/// angle, its scans see through them, and the run's checks say so; the
+/// optimal proposal's map of the same drive is not flagged.
+TEST(RbpfSlam, ScansContradictAMapBuiltAlongTheOdometry) {
+  const Drive d = simulate(1);
+  RbpfSlamOptions o = sim_options(1);
+  o.particles = 1;
+  o.proposal = RbpfProposal::Standard;
+  RbpfSlam slam(o);
+  slam.insert(d.scans[0], 0);
+  std::vector<RbpfSlamStep> steps;
+  Pose2 acc;
+  for (std::size_t k = 1; k < d.truth.size(); ++k) {
+    acc = acc + d.increments[k];
+    if (acc.norm() < 0.5 && std::abs(acc.phi()) < 20 * kDeg) continue;
+    OdometryIncrement u;
+    u.mean = SE2d(acc.x(), acc.y(), acc.phi());
+    u.covariance = Eigen::Vector3d(1e-8, 1e-8, 1e-10).asDiagonal();
+    RbpfSlamStep s;
+    s.index = k;
+    s.updated = true;
+    s.update = slam.update(u, d.scans[k], k, true);
+    steps.push_back(s);
+    acc = Pose2();
+  }
+  const RbpfScanChecks c = scan_checks(steps);
+  std::printf("along the odometry: %zu of %zu updates contradicted, mean fit %.3f\n", c.contradicted,
+              c.updates, c.mean_fit);
+  EXPECT_EQ(c.updates, steps.size());
+  EXPECT_GT(static_cast<double>(c.contradicted), kContradictedUpdates * static_cast<double>(c.updates));
+  EXPECT_GE(c.contradicted, 3u);
+  // The fit alone does not tell: most points still lie near some wall.
+  EXPECT_GT(c.mean_fit, 0.5);
+  // The optimal proposal's map of the same drive.
+  const Mapped m = map_drive(d, sim_options(1));
+  std::printf("optimal proposal: %zu of %zu updates contradicted\n", m.contradicted, m.steps.size());
+  EXPECT_LE(static_cast<double>(m.contradicted), kContradictedUpdates * static_cast<double>(m.steps.size()));
+  EXPECT_LT(m.contradicted, c.contradicted);
+}
+
+TEST(RbpfSlamRun, ScanChecksCountUpdatesOnly) {
+  std::vector<RbpfSlamStep> steps(5);
+  steps[0].updated = false;  // not an update: not counted, whatever it holds
+  steps[0].update.through_walls = 0.9;
+  steps[0].update.fit = 0.0;
+  steps[1].updated = true;
+  steps[1].update.through_walls = 0.25;
+  steps[1].update.fit = 0.5;
+  steps[2].updated = true;
+  steps[2].update.through_walls = kContradictedRays;  // at the bound: not contradicted
+  steps[2].update.fit = 1.0;
+  steps[3].updated = true;
+  steps[3].update.through_walls = 1.0;
+  steps[3].update.fit = 0.75;
+  steps[4].updated = false;
+  const RbpfScanChecks c = scan_checks(steps);
+  EXPECT_EQ(c.updates, 3u);
+  EXPECT_EQ(c.contradicted, 2u);
+  EXPECT_DOUBLE_EQ(c.mean_fit, 0.75);
+  const RbpfScanChecks none = scan_checks({});
+  EXPECT_EQ(none.updates, 0u);
+  EXPECT_EQ(none.contradicted, 0u);
+  EXPECT_EQ(none.mean_fit, 1.0);
 }
 
 /// Regression test of the Intel log's bent corridors (MRPT's

@@ -243,6 +243,32 @@ std::uint32_t TiledGrid::squared_distance(int cx, int cy, int max_cells) const n
 TiledInsertResult insert_scan(TiledGrid& grid, const RangeScan2D& scan, const SE2d& T_map_robot,
                               const GridInsertionOptions& options = {});
 
+/// How many of a scan's rays cross walls of a grid (rays_through_occupied).
+struct RaysThroughOccupied {
+  /// Returns longer than the margin: the rays looked at.
+  std::size_t rays = 0;
+  /// Of those, the rays that pass through an occupied cell before the margin.
+  std::size_t through = 0;
+  /// through / rays, 0 without rays.
+  double fraction() const noexcept {
+    return rays == 0 ? 0.0 : static_cast<double>(through) / static_cast<double>(rays);
+  }
+};
+
+/// Where a scan contradicts a grid: of the scan's returns (the rays that
+/// yield a point) with the robot at T_map_robot, the rays whose straight
+/// path from the sensor to `margin` meters before the return passes through
+/// an occupied cell (p(free) < 0.5; every cell the segment enters, exact
+/// traversal). The scan saw free space where the grid holds a wall: a map
+/// built by two passes that disagree (a loop closed wrong, a corridor
+/// doubled) does this where the passes overlap; walls met at a grazing
+/// angle and moving objects do it a little anywhere, hence the margin.
+/// Returns shorter than the margin are not counted, nor rays spanning more
+/// than 2²⁰ cells. Preconditions (InvalidArgument): scan.check(), margin
+/// finite and ≥ 0, T_map_robot finite.
+RaysThroughOccupied rays_through_occupied(const TiledGrid& grid, const RangeScan2D& scan,
+                                          const SE2d& T_map_robot, double margin);
+
 /// The squared distances to the nearest occupied cell already found in one
 /// state of one TiledGrid, for many likelihood evaluations of nearby poses
 /// against it (a particle filter's proposal): the points of neighbouring

@@ -19,7 +19,13 @@
 /// hypothesis); "poor-scan-fit" when, on average over the updates, fewer
 /// than half of the scan's points lay within LF_maxCorrsDistance of a wall
 /// of the most likely particle's map (the map disagrees with the scans);
-/// "no-updates" when the robot never moved enough to run the filter.
+/// "map-contradicts-scans" when in more than a tenth of the updates (and at
+/// least 3) more than a fifth of the scan's rays crossed a wall of the most
+/// likely particle's map (RbpfUpdateResult::through_walls: passes that
+/// disagree, a loop closed wrong); "no-updates" when the robot never moved
+/// enough to run the filter. The checks see what the scans contradict, not
+/// every inconsistent map: a loop closed wrong where the passes do not
+/// overlap passes them (compare with another map: --reference).
 
 #include <cstdint>
 #include <functional>
@@ -138,7 +144,29 @@ struct RbpfSlamResult : RbpfRunTotals {
   std::size_t unshared_tiles = 0;
   /// The options the filter ran with (seed, threads, overrides applied).
   RbpfSlamOptions options;
+  /// Updates in which more than kContradictedRays of the scan's rays
+  /// crossed a wall of the most likely map (RbpfUpdateResult::through_walls).
+  std::size_t contradicted_updates = 0;
 };
+
+/// The share of a scan's rays through walls above which an update counts
+/// as contradicted, and the share of contradicted updates above which a
+/// run is flagged "map-contradicts-scans" (see the file comment). On the
+/// Radish logs and the Telecom loop, consistent maps had 0–2.8 % of their
+/// updates contradicted, maps with a loop closed wrong 14–31 %
+/// (docs/filter-slam.md).
+inline constexpr double kContradictedRays = 0.2;
+inline constexpr double kContradictedUpdates = 0.1;
+
+/// Updates of `steps` that ran the filter, those with through_walls above
+/// kContradictedRays, and the mean fit: what the scan checks of a run
+/// (the file comment) are decided from.
+struct RbpfScanChecks {
+  std::size_t updates = 0;
+  std::size_t contradicted = 0;
+  double mean_fit = 1.0;
+};
+RbpfScanChecks scan_checks(const std::vector<RbpfSlamStep>& steps);
 
 /// Maps the log at `rawlog_path` with the configuration (see the file
 /// comment), polling rove::throw_if_interrupted() once per entry. Throws
