@@ -100,9 +100,13 @@ struct Mapped {
   std::size_t resamplings = 0;
   // Updates with more than kContradictedRays of the rays through walls.
   std::size_t contradicted = 0;
+  // Every update, as a run records it.
+  std::vector<RbpfSlamStep> updates;
 };
 
-Mapped map_drive(const Drive& d, const RbpfSlamOptions& options) {
+/// With `odometry_only`, the increments' Gaussians are a hair wide: the
+/// motion model's proposal then follows the odometry.
+Mapped map_drive(const Drive& d, const RbpfSlamOptions& options, bool odometry_only = false) {
   Mapped m;
   m.slam = std::make_unique<RbpfSlam>(options);
   m.slam->insert(d.scans[0], 0);
@@ -114,13 +118,21 @@ Mapped map_drive(const Drive& d, const RbpfSlamOptions& options) {
     u.mean = SE2d(acc.x(), acc.y(), acc.phi());
     // A 5 % / 2° per meter Gaussian of the accumulated increment.
     const double dist = acc.norm();
-    u.covariance = Eigen::Vector3d(std::pow(0.05 * dist + 0.01, 2), std::pow(0.05 * dist + 0.01, 2),
-                                   std::pow((2.0 * dist + 1.0) * kDeg + 0.05 * std::abs(acc.phi()), 2))
-                       .asDiagonal();
+    u.covariance = odometry_only
+                       ? Eigen::Vector3d(1e-8, 1e-8, 1e-10).asDiagonal().toDenseMatrix()
+                       : Eigen::Vector3d(std::pow(0.05 * dist + 0.01, 2), std::pow(0.05 * dist + 0.01, 2),
+                                         std::pow((2.0 * dist + 1.0) * kDeg + 0.05 * std::abs(acc.phi()), 2))
+                             .asDiagonal()
+                             .toDenseMatrix();
     const RbpfUpdateResult r = m.slam->update(u, d.scans[k], k, true);
     m.resamplings += r.resampled ? 1 : 0;
     m.contradicted += r.through_walls > kContradictedRays ? 1 : 0;
     m.steps.push_back(k);
+    RbpfSlamStep step;
+    step.index = k;
+    step.updated = true;
+    step.update = r;
+    m.updates.push_back(step);
     acc = Pose2();
   }
   return m;
@@ -224,23 +236,8 @@ TEST(RbpfSlam, ScansContradictAMapBuiltAlongTheOdometry) {
   RbpfSlamOptions o = sim_options(1);
   o.particles = 1;
   o.proposal = RbpfProposal::Standard;
-  RbpfSlam slam(o);
-  slam.insert(d.scans[0], 0);
-  std::vector<RbpfSlamStep> steps;
-  Pose2 acc;
-  for (std::size_t k = 1; k < d.truth.size(); ++k) {
-    acc = acc + d.increments[k];
-    if (acc.norm() < 0.5 && std::abs(acc.phi()) < 20 * kDeg) continue;
-    OdometryIncrement u;
-    u.mean = SE2d(acc.x(), acc.y(), acc.phi());
-    u.covariance = Eigen::Vector3d(1e-8, 1e-8, 1e-10).asDiagonal();
-    RbpfSlamStep s;
-    s.index = k;
-    s.updated = true;
-    s.update = slam.update(u, d.scans[k], k, true);
-    steps.push_back(s);
-    acc = Pose2();
-  }
+  const Mapped odometry = map_drive(d, o, true);
+  const std::vector<RbpfSlamStep>& steps = odometry.updates;
   const RbpfScanChecks c = scan_checks(steps);
   std::printf("along the odometry: %zu of %zu updates contradicted, mean fit %.3f\n", c.contradicted,
               c.updates, c.mean_fit);
