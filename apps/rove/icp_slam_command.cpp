@@ -107,6 +107,8 @@ struct RunFacts {
   double mapping_seconds = 0, read_seconds = 0, max_step_seconds = 0;
   std::size_t grids = 0, points = 0;
   std::string picture;
+  // The keyframes' 2D scans against each other (scan_consistency.h).
+  std::size_t keyframes_checked = 0, keyframes_contradicted = 0;
 };
 
 // The maps into dir: each grid as a ROS map pair, each point map as PLY and
@@ -205,6 +207,8 @@ std::string summary_json(const RunFacts& f, const IcpSlam& slam, const std::vect
   j.key("icp_iterations").value(st.icp_iterations);
   j.key("icp_iterations_per_run").value(iterations_per_icp(st));
   j.key("keyframes").value(st.insertions);
+  j.key("keyframes_checked").value(f.keyframes_checked);
+  j.key("keyframes_contradicted").value(f.keyframes_contradicted);
   j.key("map_points").value(f.points);
   j.key("grid_maps").value(f.grids);
   j.key("final_pose").begin_object();
@@ -243,6 +247,10 @@ void print_report(const RunFacts& f, const IcpSlam& slam, const std::string& out
              st.icp_iterations, iterations_per_icp(st));
   fmt::print("  map: {} keyframes, {} points{}\n", st.insertions, f.points,
              f.grids ? fmt::format(", {} grid map(s)", f.grids) : std::string());
+  if (f.keyframes_checked > 0) {
+    fmt::print("  keyframes against each other: {} of {} with more than {:.0f} % of the rays through walls\n",
+               f.keyframes_contradicted, f.keyframes_checked, 100.0 * kContradictedRays);
+  }
   fmt::print("  final pose: {}\n", slam.pose().as_string());
   fmt::print("  time: mapping {:.3f} s ({:.3f} ms/step, max {:.3f} ms), reading {:.3f} s, "
              "total {:.3f} s\n",
@@ -328,6 +336,8 @@ void run(IcpSlamCliOptions o) {
   facts.steps = res.steps.size();
   facts.scans = res.scans;
   facts.mapping_seconds = res.mapping_seconds;
+  facts.keyframes_checked = res.consistency.checked;
+  facts.keyframes_contradicted = res.consistency.contradicted;
   facts.read_seconds = res.read_seconds;
   for (const auto& s : res.steps) facts.max_step_seconds = std::max(facts.max_step_seconds, s.seconds);
 

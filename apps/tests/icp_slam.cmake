@@ -102,3 +102,16 @@ add_test(NAME cli.icp_slam_interrupt COMMAND sh
   ${rove_icp_dir}/interrupt ${ROVE_DATASETS_DIR})
 set_tests_properties(cli.icp_slam_interrupt PROPERTIES LABELS cli SKIP_RETURN_CODE 77 TIMEOUT 60)
 rove_dataset_tests(cli.icp_slam_interrupt)
+
+# ICP-SLAM closes no loop: on the first 3,000 steps of the Intel log the
+# path has drifted when the robot comes back, the later keyframes see
+# through the walls of the earlier ones, and the run says so (exit 3, its
+# files written).
+add_test(NAME cli.icp_slam_contradicted_map COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> icp-slam --no-progress ${PROJECT_SOURCE_DIR}/data/mrpt/icp-slam_demo_classic.ini ${ROVE_DATASETS_DIR}/radish/intel.clf.bz2 --max-steps 3000 -o ${rove_icp_dir}/contradicted"
+  -DEXIT=3 "-DREGEX=keyframes against each other: [0-9]+ of [0-9]+ with more than 20 % of the rays through walls.*rove: warning: map-contradicts-scans: [0-9]+ of [0-9]+ keyframes"
+  -DFILE=${rove_icp_dir}/contradicted/summary.json
+  "-DFILE_REGEX=\"keyframes_checked\": [0-9]+,.*\"keyframes_contradicted\": [0-9]+,.*\"code\": \"map-contradicts-scans\""
+  -P ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
+set_tests_properties(cli.icp_slam_contradicted_map PROPERTIES LABELS cli)
+rove_dataset_tests(cli.icp_slam_contradicted_map)

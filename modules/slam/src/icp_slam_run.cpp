@@ -175,6 +175,23 @@ IcpSlamRunResult run_icp_slam(IcpSlam& slam, const std::string& rawlog_path,
                         rawlog_path, result.steps.size(), detail::describe_counts(classes)));
   }
   result.issues = icp_slam_issues(slam.stats(), slam.options(), options.min_accepted_fraction);
+  std::vector<PosedScan> keyframes;
+  for (const IcpSlamKeyframe& k : slam.keyframes()) {
+    if (const auto* scan = dynamic_cast<const RangeScan2D*>(k.observation.get())) {
+      keyframes.push_back({SE2d(k.pose.x(), k.pose.y(), k.pose.phi()), scan});
+    }
+  }
+  result.consistency = scan_consistency(keyframes);
+  if (result.consistency.flagged()) {
+    result.issues.push_back(
+        {"map-contradicts-scans",
+         fmt::format("{} of {} keyframes saw more than {:.0f} % of their rays through walls of the "
+                     "keyframes before them (> {:.0f} % of the keyframes): the path drifted where "
+                     "the robot came back, so the map holds passes that disagree (a loop ICP-SLAM "
+                     "does not close)",
+                     result.consistency.contradicted, result.consistency.checked,
+                     100.0 * kContradictedRays, 100.0 * kContradictedScans)});
+  }
   return result;
 }
 

@@ -126,6 +126,15 @@ std::vector<LidarSlamIssue> run_issues(const LidarSlam& slam, const LidarSlamRun
                      res.poor_matches, st.matched, options.min_match_score,
                      100.0 * options.max_poor_match_fraction)});
   }
+  if (res.consistency.flagged()) {
+    issues.push_back(
+        {"map-contradicts-scans",
+         fmt::format("{} of {} nodes saw more than {:.0f} % of their rays through walls of the nodes "
+                     "before them at the final poses (> {:.0f} % of the nodes): the map holds passes "
+                     "that disagree (a loop closed wrong, or one not closed)",
+                     res.consistency.contradicted, res.consistency.checked, 100.0 * kContradictedRays,
+                     100.0 * kContradictedScans)});
+  }
   if (st.scans_without_points > 0) {
     issues.push_back({"scans-without-points",
                       fmt::format("{} of {} scans had no return within [{:g}, {:g}) m; they got "
@@ -190,6 +199,12 @@ LidarSlamRunResult run_lidar_slam(LidarSlam& slam, const std::string& path,
   Stopwatch sw;
   res.final_optimization = slam.finish();
   res.mapping_seconds += sw.elapsed();
+  // The nodes' scans against each other at their final poses.
+  std::vector<PosedScan> nodes;
+  for (const LidarSlamNode& n : slam.nodes()) {
+    if (n.observation) nodes.push_back({n.T_world_robot, n.observation.get()});
+  }
+  res.consistency = scan_consistency(nodes);
   res.issues = run_issues(slam, res, options);
   return res;
 }

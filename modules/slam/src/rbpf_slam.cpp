@@ -14,6 +14,7 @@
 #include "rove/bayes/random.h"
 #include "rove/core/check.h"
 #include "rove/registration/icp_target_2d.h"
+#include "rove/slam/scan_consistency.h"
 #include "rbpf_common.h"
 
 namespace rove {
@@ -426,7 +427,7 @@ RbpfUpdateResult RbpfSlam::update(const OdometryIncrement& motion, const RangeSc
   const RbpfParticle& top = particles_[w.best];
   result.fit = top.map.empty() ? 1.0 : impl_->field.fit(top.map, points, top.pose);
   if (!top.map.empty()) {
-    const double margin = std::max(RbpfUpdateResult::kThroughWallsMargin, 4.0 * res);
+    const double margin = std::max(kThroughWallsMargin, 4.0 * res);
     result.through_walls = rays_through_occupied(top.map, scan, top.pose, margin).fraction();
   }
   if (result.ess < options_.beta) {

@@ -28,14 +28,13 @@ void conclude(RbpfSlamResult& res, const RbpfSlam& slam, const RbpfSlamConfig& c
                      "a wall of the most likely map (< 50 %): the map disagrees with the scans",
                      100.0 * c.mean_fit)});
   }
-  if (c.contradicted >= 3 &&
-      static_cast<double>(c.contradicted) > kContradictedUpdates * static_cast<double>(c.updates)) {
+  if (contradicted_run(c.contradicted, c.updates)) {
     res.issues.push_back(
         {"map-contradicts-scans",
          fmt::format("in {} of {} updates more than {:.0f} % of the scan's rays crossed a wall of the "
                      "most likely map (> {:.0f} % of the updates): parts of the map were built by "
                      "passes that disagree, e.g. a loop closed wrong (see ess.csv, through_walls)",
-                     c.contradicted, c.updates, 100.0 * kContradictedRays, 100.0 * kContradictedUpdates)});
+                     c.contradicted, c.updates, 100.0 * kContradictedRays, 100.0 * kContradictedScans)});
   }
   res.termination =
       res.issues.empty() ? RbpfSlamTermination::Completed : RbpfSlamTermination::CompletedWithIssues;

@@ -54,17 +54,7 @@ Drive simulate(std::uint64_t seed) {
       d.increments.emplace_back(1.02 * t.x() + 0.01 * unit(rng), 1.02 * t.y() + 0.01 * unit(rng),
                                 t.phi() + kDeg * (0.3 * unit(rng) + 0.8 * t.norm()));
     }
-    RangeScan2D scan;
-    scan.aperture = std::numbers::pi;
-    scan.max_range = 30.0f;
-    std::vector<float> ranges;
-    for (std::size_t i = 0; i < 361; ++i) {
-      const double a = d.truth[k].phi() - std::numbers::pi / 2 + std::numbers::pi * static_cast<double>(i) / 360.0;
-      const double r = test::cast(walls, d.truth[k].translation(), Eigen::Vector2d(std::cos(a), std::sin(a)));
-      ranges.push_back(r < 30.0 ? static_cast<float>(r + 0.01 * unit(rng)) : 0.0f);
-    }
-    scan.set_ranges(std::move(ranges));
-    d.scans.push_back(std::move(scan));
+    d.scans.push_back(test::simulate_scan(walls, d.truth[k], 0.01, unit, rng));
   }
   return d;
 }
@@ -207,7 +197,7 @@ TEST(RbpfSlam, ClosesTheSimulatedLoop) {
     rmses.push_back(rmse);
     agreements.push_back(agree);
     // The scans do not contradict the map (the run is not flagged).
-    EXPECT_LE(static_cast<double>(m.contradicted), kContradictedUpdates * static_cast<double>(m.steps.size()))
+    EXPECT_LE(static_cast<double>(m.contradicted), kContradictedScans * static_cast<double>(m.steps.size()))
         << "seed " << seed;
     std::printf("seed %d: path RMSE %.3f m, %.1f %% of the occupied cells within 0.15 m of a wall\n",
                 static_cast<int>(seed), rmse, 100.0 * agree);
@@ -242,14 +232,14 @@ TEST(RbpfSlam, ScansContradictAMapBuiltAlongTheOdometry) {
   std::printf("along the odometry: %zu of %zu updates contradicted, mean fit %.3f\n", c.contradicted,
               c.updates, c.mean_fit);
   EXPECT_EQ(c.updates, steps.size());
-  EXPECT_GT(static_cast<double>(c.contradicted), kContradictedUpdates * static_cast<double>(c.updates));
+  EXPECT_GT(static_cast<double>(c.contradicted), kContradictedScans * static_cast<double>(c.updates));
   EXPECT_GE(c.contradicted, 3u);
   // The fit alone does not tell: most points still lie near some wall.
   EXPECT_GT(c.mean_fit, 0.5);
   // The optimal proposal's map of the same drive.
   const Mapped m = map_drive(d, sim_options(1));
   std::printf("optimal proposal: %zu of %zu updates contradicted\n", m.contradicted, m.steps.size());
-  EXPECT_LE(static_cast<double>(m.contradicted), kContradictedUpdates * static_cast<double>(m.steps.size()));
+  EXPECT_LE(static_cast<double>(m.contradicted), kContradictedScans * static_cast<double>(m.steps.size()));
   EXPECT_LT(m.contradicted, c.contradicted);
 }
 

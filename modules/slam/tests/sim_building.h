@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "rove/obs/range_scan_2d.h"
 #include "rove/poses/pose2.h"
 
 namespace rove::test {
@@ -110,6 +112,29 @@ std::vector<Eigen::Vector2d> simulate_points(const std::vector<Segment>& walls,
     pts.emplace_back(rn * std::cos(local), rn * std::sin(local));
   }
   return pts;
+}
+
+}  // namespace rove::test
+
+namespace rove::test {
+
+/// A 361-ray scan over 180° (30 m range; no return beyond) from the robot at
+/// `T_world_robot`, with range noise of `sigma` meters: sigma × unit(rng)
+/// (the caller's standard normal, which may serve other draws too).
+template <typename Rng>
+RangeScan2D simulate_scan(const std::vector<Segment>& walls, const Pose2& T_world_robot, double sigma,
+                          std::normal_distribution<double>& unit, Rng& rng) {
+  RangeScan2D scan;
+  scan.aperture = std::numbers::pi;
+  scan.max_range = 30.0f;
+  std::vector<float> ranges;
+  for (std::size_t i = 0; i < 361; ++i) {
+    const double a = T_world_robot.phi() - std::numbers::pi / 2 + std::numbers::pi * static_cast<double>(i) / 360.0;
+    const double r = cast(walls, T_world_robot.translation(), Eigen::Vector2d(std::cos(a), std::sin(a)));
+    ranges.push_back(r < 30.0 ? static_cast<float>(r + sigma * unit(rng)) : 0.0f);
+  }
+  scan.set_ranges(std::move(ranges));
+  return scan;
 }
 
 }  // namespace rove::test

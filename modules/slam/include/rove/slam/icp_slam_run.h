@@ -17,6 +17,7 @@
 #include "rove/obs/timestamp.h"
 #include "rove/poses/pose2.h"
 #include "rove/slam/icp_slam.h"
+#include "rove/slam/scan_consistency.h"
 
 namespace rove {
 
@@ -47,8 +48,10 @@ struct IcpSlamStep {
 /// built, but they are not what ICP-SLAM promises.
 struct IcpSlamIssue {
   /// "no-icp-accepted" (ICP ran, no result passed the threshold: the path is
-  /// the odometry and the map holds the first scans only) or
-  /// "few-icp-accepted" (under min_accepted_fraction of the ICP runs).
+  /// the odometry and the map holds the first scans only),
+  /// "few-icp-accepted" (under min_accepted_fraction of the ICP runs) or
+  /// "map-contradicts-scans" (the keyframes' 2D scans contradict each other:
+  /// scan_consistency.h, IcpSlamRunResult::consistency).
   std::string code;
   /// One line for a person, with the counts and the threshold.
   std::string message;
@@ -84,6 +87,11 @@ struct IcpSlamRunResult {
   /// Observations in the processed steps that ICP-SLAM can match (2D scans,
   /// 3D range images).
   std::uint64_t scans = 0;
+  /// The keyframes' 2D scans replayed against each other at their poses
+  /// (scan_consistency.h; a 5 cm grid, MRPT's insertion defaults): a path
+  /// that drifted through a loop leaves later keyframes seeing through the
+  /// walls of earlier ones. Empty without 2D keyframes.
+  ScanConsistency consistency;
   /// What the result does not deliver (empty when fine); see IcpSlamIssue.
   std::vector<IcpSlamIssue> issues;
 };
@@ -100,7 +108,8 @@ std::vector<IcpSlamIssue> icp_slam_issues(const IcpSlamStats& stats, const IcpSl
 /// offset in the file); SelectionError when rawlog_offset skips every step
 /// or the processed steps hold no 2D scan or range image (the message lists
 /// what the log holds). The result's `issues` list what a finished run did
-/// not deliver (few or no ICP results accepted).
+/// not deliver (few or no ICP results accepted, keyframes that contradict
+/// each other).
 IcpSlamRunResult run_icp_slam(IcpSlam& slam, const std::string& rawlog_path,
                               const IcpSlamRunOptions& options = {});
 

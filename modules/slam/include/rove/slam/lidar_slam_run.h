@@ -23,6 +23,7 @@
 #include "rove/math/se2.h"
 #include "rove/obs/timestamp.h"
 #include "rove/slam/lidar_slam.h"
+#include "rove/slam/scan_consistency.h"
 
 namespace rove {
 
@@ -35,7 +36,9 @@ struct LidarSlamIssue {
   /// "poor-matching": over max_poor_match_fraction of the scans matched
   /// the submap poorly (score under min_match_score): the front-end may be
   /// lost; "scans-without-points": some scans had no return in range (they
-  /// only got a predicted pose).
+  /// only got a predicted pose); "map-contradicts-scans": the nodes' scans
+  /// contradict each other at their final poses (scan_consistency.h,
+  /// LidarSlamRunResult::consistency).
   std::string code;
   /// One line for a person, with the counts.
   std::string message;
@@ -81,6 +84,9 @@ struct LidarSlamRunResult {
   double read_seconds = 0.0;
   /// The final optimization (LidarSlam::finish), if one ran.
   std::optional<GraphOptimizerResult> final_optimization;
+  /// The nodes' scans replayed against each other at their final poses
+  /// (scan_consistency.h; a 5 cm grid, MRPT's insertion defaults).
+  ScanConsistency consistency;
   /// What the result does not deliver (empty when fine); see LidarSlamIssue.
   std::vector<LidarSlamIssue> issues;
 };

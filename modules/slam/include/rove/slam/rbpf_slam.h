@@ -183,11 +183,9 @@ struct RbpfUpdateResult {
   /// Fraction of the scan's returns whose ray passes through an occupied
   /// cell of the same map more than kThroughWallsMargin (or 4 cells, if
   /// more) before the return, at the same pose (rays_through_occupied,
-  /// tiled_grid.h; 0 when the map was empty): free space the scan saw
-  /// where the map holds a wall.
+  /// tiled_grid.h; scan_consistency.h; 0 when the map was empty): free
+  /// space the scan saw where the map holds a wall.
   double through_walls = 0.0;
-  /// The margin of through_walls, meters.
-  static constexpr double kThroughWallsMargin = 0.5;
 };
 
 /// The filter. Not thread-safe (it runs its own threads).

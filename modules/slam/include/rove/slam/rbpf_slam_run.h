@@ -40,6 +40,7 @@
 #include "rove/poses/pose2.h"
 #include "rove/slam/rbpf_slam.h"
 #include "rove/slam/rbpf_slam_config.h"
+#include "rove/slam/scan_consistency.h"
 
 namespace rove {
 
@@ -148,15 +149,6 @@ struct RbpfSlamResult : RbpfRunTotals {
   /// crossed a wall of the most likely map (RbpfUpdateResult::through_walls).
   std::size_t contradicted_updates = 0;
 };
-
-/// The share of a scan's rays through walls above which an update counts
-/// as contradicted, and the share of contradicted updates above which a
-/// run is flagged "map-contradicts-scans" (see the file comment). On the
-/// Radish logs and the Telecom loop, consistent maps had 0–2.8 % of their
-/// updates contradicted, maps with a loop closed wrong 14–31 %
-/// (docs/filter-slam.md).
-inline constexpr double kContradictedRays = 0.2;
-inline constexpr double kContradictedUpdates = 0.1;
 
 /// Updates of `steps` that ran the filter, those with through_walls above
 /// kContradictedRays, and the mean fit: what the scan checks of a run
