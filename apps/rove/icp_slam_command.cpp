@@ -107,8 +107,10 @@ struct RunFacts {
   double mapping_seconds = 0, read_seconds = 0, max_step_seconds = 0;
   std::size_t grids = 0, points = 0;
   std::string picture;
-  // The keyframes' 2D scans against each other (scan_consistency.h).
+  // The keyframes' 2D scans against each other (scan_consistency.h), and
+  // the replay grid's cell side (0: the scans spread too far to check).
   std::size_t keyframes_checked = 0, keyframes_contradicted = 0;
+  double consistency_resolution = 0.0;
 };
 
 // The maps into dir: each grid as a ROS map pair, each point map as PLY and
@@ -209,6 +211,7 @@ std::string summary_json(const RunFacts& f, const IcpSlam& slam, const std::vect
   j.key("keyframes").value(st.insertions);
   j.key("keyframes_checked").value(f.keyframes_checked);
   j.key("keyframes_contradicted").value(f.keyframes_contradicted);
+  j.key("consistency_resolution").value(f.consistency_resolution);
   j.key("map_points").value(f.points);
   j.key("grid_maps").value(f.grids);
   j.key("final_pose").begin_object();
@@ -248,8 +251,14 @@ void print_report(const RunFacts& f, const IcpSlam& slam, const std::string& out
   fmt::print("  map: {} keyframes, {} points{}\n", st.insertions, f.points,
              f.grids ? fmt::format(", {} grid map(s)", f.grids) : std::string());
   if (f.keyframes_checked > 0) {
-    fmt::print("  keyframes against each other: {} of {} with more than {:.0f} % of the rays through walls\n",
-               f.keyframes_contradicted, f.keyframes_checked, 100.0 * kContradictedRays);
+    fmt::print("  keyframes against each other: {} of {} with more than {:.0f} % of the rays through walls "
+               "({:g} m cells)\n",
+               f.keyframes_contradicted, f.keyframes_checked, 100.0 * kContradictedRays,
+               f.consistency_resolution);
+  } else if (f.consistency_resolution == 0.0 && st.insertions > 1) {
+    fmt::print("  keyframes against each other: not checked (their scans span more than {} tiles of "
+               "32 cells even at 8x the 5 cm cells)\n",
+               kMaxReplayTiles);
   }
   fmt::print("  final pose: {}\n", slam.pose().as_string());
   fmt::print("  time: mapping {:.3f} s ({:.3f} ms/step, max {:.3f} ms), reading {:.3f} s, "
@@ -338,6 +347,7 @@ void run(IcpSlamCliOptions o) {
   facts.mapping_seconds = res.mapping_seconds;
   facts.keyframes_checked = res.consistency.checked;
   facts.keyframes_contradicted = res.consistency.contradicted;
+  facts.consistency_resolution = res.consistency.resolution;
   facts.read_seconds = res.read_seconds;
   for (const auto& s : res.steps) facts.max_step_seconds = std::max(facts.max_step_seconds, s.seconds);
 

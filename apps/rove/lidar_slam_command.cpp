@@ -179,6 +179,7 @@ std::string summary_json(const Config& cfg, const std::string& log, const LidarS
   j.key("nodes").value(st.nodes);
   j.key("nodes_checked").value(res.consistency.checked);
   j.key("nodes_contradicted").value(res.consistency.contradicted);
+  j.key("consistency_resolution").value(res.consistency.resolution);
   j.key("submaps").value(st.submaps);
   j.key("loop_searches").value(st.loop_searches);
   j.key("loops_accepted").value(st.loops_accepted);
@@ -237,8 +238,16 @@ void print_report(const Config& cfg, const std::string& log, const std::string& 
              "confirmed by ICP, {} without an agreeing candidate\n",
              st.loop_searches, st.loops_accepted, st.loops_low_score, st.loops_ambiguous,
              st.loops_icp_rejected, st.loops_inconsistent);
-  fmt::print("  nodes against each other: {} of {} with more than {:.0f} % of the rays through walls\n",
-             res.consistency.contradicted, res.consistency.checked, 100.0 * kContradictedRays);
+  if (res.consistency.resolution > 0.0) {
+    fmt::print("  nodes against each other: {} of {} with more than {:.0f} % of the rays through walls ({:g} m "
+               "cells)\n",
+               res.consistency.contradicted, res.consistency.checked, 100.0 * kContradictedRays,
+               res.consistency.resolution);
+  } else {
+    fmt::print("  nodes against each other: not checked (their scans span more than {} tiles of 32 cells "
+               "even at 8x the 5 cm cells)\n",
+               kMaxReplayTiles);
+  }
   if (const auto& o = slam.last_optimization()) {
     fmt::print("  pose graph: {} vertices, {} edges; {} optimizations, the last {} (chi2 {:.4g} -> {:.4g})\n",
                slam.graph().num_vertices(), slam.graph().num_edges(), st.optimizations,

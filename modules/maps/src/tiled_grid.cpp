@@ -116,6 +116,17 @@ void TiledGrid::reserve_tiles(int tx0, int tx1, int ty0, int ty1) {
   nty_ = nty;
 }
 
+void TiledGrid::reserve(double x0, double x1, double y0, double y1) {
+  ROVE_CHECK_MSG(std::isfinite(x0) && std::isfinite(x1) && std::isfinite(y0) && std::isfinite(y1) &&
+                     x0 <= x1 && y0 <= y1,
+                 "reserve needs finite bounds with x0 <= x1 and y0 <= y1, got [{}, {}] x [{}, {}]", x0, x1,
+                 y0, y1);
+  const int cx0 = to_idx(x0), cx1 = to_idx(x1), cy0 = to_idx(y0), cy1 = to_idx(y1);
+  ROVE_CHECK_MSG(cx0 > -kCellLimit / 2 && cx1 < kCellLimit / 2 && cy0 > -kCellLimit / 2 && cy1 < kCellLimit / 2,
+                 "[{}, {}] x [{}, {}] m reaches beyond the tiled grid's cells", x0, x1, y0, y1);
+  reserve_tiles(tile_of(cx0), tile_of(cx1), tile_of(cy0), tile_of(cy1));
+}
+
 GridTile& TiledGrid::writable(int tx, int ty, bool* copied) {
   reserve_tiles(tx, tx, ty, ty);
   std::shared_ptr<GridTile>& s = *slot(tx, ty);

@@ -360,6 +360,28 @@ TEST(TiledGrid, DeclinedScanChangesNothing) {
   EXPECT_THROW(g.squared_distance_to_occupied(0, 0, 32), InvalidArgument);
 }
 
+// Reserving the extent beforehand changes no cell and holds no tile.
+TEST(TiledGrid, ReserveKeepsTheSameCells) {
+  RangeScan2D scan;
+  scan.aperture = std::numbers::pi;
+  std::vector<float> ranges(181);
+  for (std::size_t i = 0; i < ranges.size(); ++i) ranges[i] = 3.0f + 0.02f * static_cast<float>(i % 17);
+  scan.set_ranges(ranges);
+  TiledGrid a(0.05f), b(0.05f);
+  b.reserve(-20.0, 40.0, -30.0, 25.0);
+  EXPECT_EQ(b.tile_count(), 0u);
+  EXPECT_TRUE(b.empty());
+  for (int k = 0; k < 5; ++k) {
+    const SE2d pose(3.0 * k, -1.5 * k, 0.4 * k);
+    insert_scan(a, scan, pose);
+    insert_scan(b, scan, pose);
+  }
+  EXPECT_TRUE(a == b);
+  EXPECT_THROW(b.reserve(1.0, 0.0, 0.0, 1.0), InvalidArgument);
+  EXPECT_THROW(b.reserve(0.0, std::nan(""), 0.0, 1.0), InvalidArgument);
+  EXPECT_THROW(b.reserve(0.0, 1e12, 0.0, 1.0), InvalidArgument);
+}
+
 // Rays through walls: a wall of occupied cells across the rays' path.
 TEST(TiledGrid, RaysThroughOccupiedCountsRaysThatCrossAWall) {
   TiledGrid g(0.1f);

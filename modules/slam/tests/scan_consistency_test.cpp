@@ -73,6 +73,33 @@ TEST(ScanConsistency, TruePosesAgreeADriftingPathDoesNot) {
   for (std::size_t k = 1; k < 10; ++k) EXPECT_LE(drifted.through_walls[k], kContradictedRays) << k;
 }
 
+// Scans kilometers apart: the grid coarsens to fit kMaxReplayTiles, and
+// beyond kMaxCoarsening the scans are left unchecked (resolution 0).
+TEST(ScanConsistency, FarApartScansCoarsenTheGridOrAreNotChecked) {
+  const Loop l = loop();
+  const ScanConsistency near = scan_consistency(posed(l.truth, l.scans));
+  EXPECT_FLOAT_EQ(static_cast<float>(near.resolution), 0.05f);
+  // The loop, then the same loop 2 km north-east: a bounding box of about
+  // 1,300 × 1,300 tiles at 5 cm, 160 × 160 at 0.4 m.
+  std::vector<Pose2> poses = l.truth;
+  std::vector<RangeScan2D> scans = l.scans;
+  for (std::size_t k = 0; k < l.truth.size(); ++k) {
+    poses.emplace_back(l.truth[k].x() + 2000.0, l.truth[k].y() + 2000.0, l.truth[k].phi());
+    scans.push_back(l.scans[k]);
+  }
+  const ScanConsistency far = scan_consistency(posed(poses, scans));
+  EXPECT_FLOAT_EQ(static_cast<float>(far.resolution), 0.4f);
+  EXPECT_EQ(far.checked, scans.size() - 1);
+  EXPECT_FALSE(far.flagged());
+  // 100 km apart: not checked.
+  poses.back() = Pose2(1e5, 1e5, 0.0);
+  const ScanConsistency too_far = scan_consistency(posed(poses, scans));
+  EXPECT_EQ(too_far.resolution, 0.0);
+  EXPECT_EQ(too_far.checked, 0u);
+  EXPECT_EQ(too_far.through_walls.size(), scans.size());
+  EXPECT_FALSE(too_far.flagged());
+}
+
 TEST(ScanConsistency, RunDecision) {
   EXPECT_FALSE(contradicted_run(0, 0));
   EXPECT_FALSE(contradicted_run(2, 5));   // under kMinContradicted

@@ -118,6 +118,12 @@ class TiledGrid {
   /// limits on the cell lattice within 10⁻³ cell.
   void assign(const OccupancyGrid& grid);
 
+  /// Makes the tiles over [x0, x1] × [y0, y1] (meters) addressable at once:
+  /// a grid that knows its extent beforehand does not regrow its table of
+  /// tile pointers (16 bytes per tile of the bounding box, no tile storage)
+  /// as scans reach farther. Precondition (InvalidArgument): finite bounds,
+  /// x0 ≤ x1, y0 ≤ y1, within ±2²⁹ cells.
+  void reserve(double x0, double x1, double y0, double y1);
   /// Tiles with storage (written at least once).
   std::size_t tile_count() const noexcept;
   /// The storage of the tile holding cell (cx, cy), or null if never

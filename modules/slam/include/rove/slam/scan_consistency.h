@@ -51,8 +51,19 @@ struct PosedScan {
   const RangeScan2D* scan = nullptr;
 };
 
+/// The most tiles (of 32 × 32 cells) the replay's grid may span: the grid
+/// is made coarser, by factors of 2, until the scans' extent fits, up to
+/// kMaxCoarsening times the resolution asked for; beyond that the scans are
+/// not checked (about 3.3 km a side at 5 cm).
+inline constexpr std::size_t kMaxReplayTiles = std::size_t{1} << 16;
+inline constexpr int kMaxCoarsening = 8;
+
 /// The replay's result.
 struct ScanConsistency {
+  /// The cell side the replay used, meters (coarser than asked for when the
+  /// scans span more than kMaxReplayTiles); 0 when they span too much to be
+  /// checked (nothing was: checked = 0).
+  double resolution = 0.0;
   /// Per scan, in order: the share of its rays through walls of the grid of
   /// the scans before it (0 for the first, and for a scan none of whose
   /// returns is longer than the margin).
@@ -66,9 +77,10 @@ struct ScanConsistency {
   bool flagged() const { return contradicted_run(contradicted, checked); }
 };
 
-/// Replays `scans` into a tiled grid of `resolution` meters with the
-/// insertion `options` (MRPT's defaults when not given) and checks each
-/// against the ones before it (see the file comment). Preconditions
+/// Replays `scans` into a tiled grid of `resolution` meters (or coarser,
+/// see kMaxReplayTiles) with the insertion `options` (MRPT's defaults when
+/// not given) and checks each against the ones before it (see the file
+/// comment). Preconditions
 /// (InvalidArgument): resolution finite and > 0, options.check(), every scan
 /// non-null and passing check(), every pose finite.
 ScanConsistency scan_consistency(const std::vector<PosedScan>& scans, float resolution = 0.05f,
