@@ -79,6 +79,9 @@ py::dict icp_slam_summary(const IcpSlamRun& r) {
   d["icp_rejected_diverged"] = st.icp_rejected_invalid;
   d["icp_iterations"] = st.icp_iterations;
   d["keyframes"] = st.insertions;
+  d["keyframes_checked"] = r.result.consistency.checked;
+  d["keyframes_contradicted"] = r.result.consistency.contradicted;
+  d["consistency_resolution"] = r.result.consistency.resolution;
   const Pose2 p = r.slam.pose();
   d["final_pose"] = py::dict(py::arg("x") = p.x(), py::arg("y") = p.y(), py::arg("phi") = p.phi());
   d["mapping_seconds"] = r.result.mapping_seconds;
@@ -200,6 +203,9 @@ py::dict lidar_slam_summary(const LidarSlamRun& r) {
   d["sensor_label"] = r.result.sensor_label;
   d["scans"] = st.scans;
   d["nodes"] = r.slam.nodes().size();
+  d["nodes_checked"] = r.result.consistency.checked;
+  d["nodes_contradicted"] = r.result.consistency.contradicted;
+  d["consistency_resolution"] = r.result.consistency.resolution;
   d["submaps"] = r.slam.submaps().size();
   std::size_t accepted = 0;
   for (const auto& lc : r.slam.loop_closures())

@@ -18,8 +18,10 @@ def test_icp_slam_equals_the_command_line(tmp_path):
     r = rove.icp_slam(TELECOM, config=ICP_SLAM_INI, on_step=lambda s: steps.append(s["index"]))
     s = r.summary()
     for key in ("steps", "scans", "observations", "icp_runs", "icp_accepted",
-                "icp_rejected_goodness", "icp_iterations", "keyframes"):
+                "icp_rejected_goodness", "icp_iterations", "keyframes", "keyframes_checked",
+                "keyframes_contradicted", "consistency_resolution"):
         assert s[key] == cli[key], key
+    assert s["keyframes_checked"] == s["keyframes"] - 1 and s["keyframes_contradicted"] == 0
     assert s["final_pose"] == cli["final_pose"]  # the same numbers to the bit
     assert len(steps) == cli["steps"] and steps == sorted(steps)
     path = r.path
@@ -90,6 +92,8 @@ def test_lidar_slam_equals_the_command_line(tmp_path):
     r = rove.lidar_slam(TELECOM, max_scans=120)
     s = r.summary()
     assert s["scans"] == cli["scans"] and s["nodes"] == cli["nodes"]
+    assert (s["nodes_checked"], s["nodes_contradicted"]) == (cli["nodes_checked"], cli["nodes_contradicted"])
+    assert s["consistency_resolution"] == cli["consistency_resolution"] > 0
     assert s["submaps"] == cli["submaps"]
     assert s["loop_closures_accepted"] == cli["loops_accepted"]
     assert s["window_edges"] == cli["refinement"]["window_edges"] > 0

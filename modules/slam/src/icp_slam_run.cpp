@@ -187,8 +187,8 @@ IcpSlamRunResult run_icp_slam(IcpSlam& slam, const std::string& rawlog_path,
         {"map-contradicts-scans",
          fmt::format("{} of {} keyframes saw more than {:.0f} % of their rays through walls of the "
                      "keyframes before them (> {:.0f} % of the keyframes): the path drifted where "
-                     "the robot came back, so the map holds passes that disagree (a loop ICP-SLAM "
-                     "does not close)",
+                     "the robot came back, so the map holds passes that disagree (ICP-SLAM closes "
+                     "no loop; rove lidar-slam does)",
                      result.consistency.contradicted, result.consistency.checked,
                      100.0 * kContradictedRays, 100.0 * kContradictedScans)});
   }
