@@ -28,6 +28,9 @@
 #include "rove/maps/multi_metric_map.h"
 #include "rove/slam/map_build_outputs.h"
 #include "rove/slam/metric_map_builder.h"
+#include "rove/slam/scan_consistency.h"
+#include "rove/obs/selection_error.h"
+#include "rove/io/mrpt_simplemap.h"
 
 namespace rove::cli {
 
@@ -282,6 +285,69 @@ void run_map_voronoi(const MapVoronoiArgs& a) {
   finish(issues);
 }
 
+// ------------------------------------------------------------ map check --
+
+struct MapCheckArgs {
+  std::string input;
+  double resolution = 0.05;
+  bool json = false;
+};
+
+// A simple map's 2D scans replayed against each other (scan_consistency.h).
+void run_map_check(const MapCheckArgs& a) {
+  check_regular_input(a.input, "simplemap");
+  const SimpleMap map = load_mrpt_simplemap(a.input);
+  SimplemapCheck result;
+  try {
+    result = check_simplemap(map, static_cast<float>(a.resolution));
+  } catch (const SelectionError& e) {
+    throw SelectionError(e.option(), fmt::format("{}: {}", printable(a.input), e.what()));
+  }
+  const ScanConsistency& c = result.consistency;
+  const std::vector<SE2d>& poses = result.poses;
+  // The scans that saw the most through walls, at most five.
+  std::vector<std::size_t> order(poses.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const std::size_t worst_n = std::min<std::size_t>(5, order.size());
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(worst_n), order.end(),
+                    [&](std::size_t x, std::size_t y) { return c.through_walls[x] > c.through_walls[y]; });
+  order.resize(worst_n);
+  std::vector<Issue> issues;
+  for (const ScanCheckIssue& i : result.issues) issues.push_back({i.code, i.message});
+  if (a.json) {
+    JsonWriter j;
+    j.begin_object().key("input").value(a.input);
+    j.key("keyframes").value(result.keyframes).key("scans").value(poses.size());
+    j.key("resolution").value(c.resolution).key("checked").value(c.checked);
+    j.key("contradicted").value(c.contradicted);
+    j.key("worst").begin_array();
+    for (const std::size_t i : order) {
+      const Eigen::Vector2d& t = poses[i].translation();
+      j.begin_object().key("scan").value(i).key("through_walls").value(c.through_walls[i]);
+      j.key("x").value(t.x()).key("y").value(t.y()).end_object();
+    }
+    j.end_array();
+    write_issues(j, issues);
+    j.end_object();
+    fmt::print("{}\n", j.str());
+    finish(issues);
+    return;
+  }
+  fmt::print("simplemap {}: {} keyframes, {} 2D scans\n", printable(a.input), result.keyframes,
+             poses.size());
+  if (c.resolution > 0.0) {
+    fmt::print("  scans against each other ({:g} m cells): {} of {} with more than {:.0f} % of the rays "
+               "through walls\n",
+               c.resolution, c.contradicted, c.checked, 100.0 * kContradictedRays);
+    for (const std::size_t i : order) {
+      const Eigen::Vector2d& t = poses[i].translation();
+      fmt::print("  scan {} at ({:.2f}, {:.2f}) m: {:.0f} % of its rays through walls\n", i, t.x(), t.y(),
+                 100.0 * c.through_walls[i]);
+    }
+  }
+  finish(issues);
+}
+
 }  // namespace
 
 void add_map_command(CLI::App& app) {
@@ -349,6 +415,20 @@ void add_map_command(CLI::App& app) {
       ->capture_default_str();
   voronoi->add_flag("--json", vargs->json, "print the summary as JSON");
   voronoi->callback([vargs] { run_map_voronoi(*vargs); });
+
+  auto kargs = std::make_shared<MapCheckArgs>();
+  auto* check = map->add_subcommand(
+      "check",
+      "Check a simplemap's 2D scans against each other: replayed in keyframe order into an "
+      "occupancy grid, each first traced through the grid of those before it; a scan with more "
+      "than 20 % of its rays through walls contradicts the map. Exit status 3 when more than 10 % "
+      "(at least 3) do: a loop closed wrong, or one not closed");
+  check->add_option("SIMPLEMAP", kargs->input, "MRPT .simplemap (plain or gzip)")->required();
+  check->add_option("--resolution", kargs->resolution, "cell side of the replay's grid, meters")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  check->add_flag("--json", kargs->json, "print the summary as JSON");
+  check->callback([kargs] { run_map_check(*kargs); });
 }
 
 }  // namespace rove::cli

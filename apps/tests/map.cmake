@@ -113,3 +113,28 @@ add_test(NAME cli.map_safety
           ${PROJECT_SOURCE_DIR} ${rove_map_dir}/safety)
 set_tests_properties(cli.map_safety PROPERTIES LABELS cli TIMEOUT 300
   PASS_REGULAR_EXPRESSION "[0-9]+ passed, 0 failed")
+
+# `rove map check`: a simplemap's 2D scans against each other. MRPT's own
+# maps of the Malaga faculty and the localization demo agree with
+# themselves; ICP-SLAM's map of the Intel log's first 3,000 steps (written
+# by cli.icp_slam_contradicted_map) does not: exit 3. Not a simplemap: exit 1.
+set(rove_map_expect ${CMAKE_CURRENT_SOURCE_DIR}/tests/scripts/expect_exit.cmake)
+add_test(NAME cli.map_check_malaga COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> map check ${ROVE_DATASETS_DIR}/mrpt/malaga-cs-fac-building.simplemap.gz"
+  -DEXIT=0 "-DREGEX=99 keyframes, 99 2D scans.*0 of 98 with more than 20 % of the rays through walls"
+  -P ${rove_map_expect})
+add_test(NAME cli.map_check_localization_json COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> map check --json ${rove_map_datasets}/localization_demo.simplemap.gz"
+  -DEXIT=0 "-DREGEX=\"keyframes\": 72,.*\"checked\": 71,.*\"contradicted\": 0,.*\"issues\": \\[\\]"
+  -P ${rove_map_expect})
+add_test(NAME cli.map_check_contradicted COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> map check ${CMAKE_CURRENT_BINARY_DIR}/icp_slam_tests/contradicted/map.simplemap"
+  -DEXIT=3 "-DREGEX=scan [0-9]+ at \\(.*\\) m: [0-9]+ % of its rays through walls.*rove: warning: map-contradicts-scans: [0-9]+ of [0-9]+ scans saw more than 20 %"
+  -P ${rove_map_expect})
+add_test(NAME cli.map_check_not_a_simplemap COMMAND ${CMAKE_COMMAND}
+  "-DCOMMAND=$<TARGET_FILE:rove> map check ${rove_map_configs}/icp-slam/icp-slam_demo_classic.ini"
+  -DEXIT=1 "-DREGEX=icp-slam_demo_classic.ini" -P ${rove_map_expect})
+set_tests_properties(cli.map_check_malaga cli.map_check_localization_json cli.map_check_contradicted
+  cli.map_check_not_a_simplemap PROPERTIES LABELS cli)
+set_tests_properties(cli.map_check_contradicted PROPERTIES DEPENDS cli.icp_slam_contradicted_map)
+rove_dataset_tests(cli.map_check_malaga cli.map_check_contradicted)

@@ -9,6 +9,7 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -25,6 +26,9 @@
 #include "rove/maps/octree_export.h"
 #include "rove/slam/map_build_outputs.h"
 #include "rove/slam/metric_map_builder.h"
+#include "rove/slam/scan_consistency.h"
+#include "rove/io/mrpt_simplemap.h"
+#include "rove/core/error.h"
 
 namespace rove::python {
 
@@ -128,6 +132,31 @@ py::object octomap_build(py::handle clouds, const std::optional<Path>& output, d
   return namespace_of(d);
 }
 
+py::object map_check(const Path& simplemap, double resolution) {
+  if (!(std::isfinite(resolution) && resolution > 0.0)) {
+    throw InvalidArgument(fmt::format("resolution must be > 0, got {}", resolution));
+  }
+  check_regular_input(simplemap, "simplemap");
+  const SimpleMap map = load_mrpt_simplemap(simplemap.string());
+  const SimplemapCheck r = check_simplemap(map, static_cast<float>(resolution));
+  const ScanConsistency& c = r.consistency;
+  py::dict d;
+  d["keyframes"] = r.keyframes;
+  d["scans"] = r.poses.size();
+  d["resolution"] = c.resolution;
+  d["checked"] = c.checked;
+  d["contradicted"] = c.contradicted;
+  d["through_walls"] = py::array_t<double>(static_cast<py::ssize_t>(c.through_walls.size()), c.through_walls.data());
+  std::vector<std::array<double, 3>> poses;
+  for (const SE2d& p : r.poses) poses.push_back({p.translation().x(), p.translation().y(), p.angle()});
+  d["poses"] = py::array_t<double>({static_cast<py::ssize_t>(poses.size()), py::ssize_t{3}},
+                                   reinterpret_cast<const double*>(poses.data()));
+  py::list issues;
+  for (const ScanCheckIssue& i : r.issues) issues.append(py::make_tuple(i.code, i.message));
+  d["issues"] = issues;
+  return namespace_of(d);
+}
+
 py::object map_build(const Path& config, const Path& input, const std::optional<Path>& out,
                      const std::string& section, py::object on_progress) {
   if (out) {
@@ -197,6 +226,10 @@ void bind_mapping(py::module_& m) {
         "double / octomap; color mean / average / integrate / set / none. output: the .bt or .ot file "
         "to write. The occupied cells' centres come back as a rove.PointCloud. on_cloud(n) after each "
         "cloud.");
+  m.def("map_check", &map_check, py::arg("simplemap"), py::arg("resolution") = 0.05,
+        "A simplemap's 2D scans against each other, as `rove map check`: counts, each scan's share of "
+        "rays through walls and its pose (x, y, theta) as arrays, issues (map-contradicts-scans, "
+        "not-checked).");
   m.def("map_build", &map_build, py::arg("config"), py::arg("input"), py::arg("out") = py::none(),
         py::arg("section") = "", py::arg("on_progress") = py::none(),
         "The maps an MRPT config declares, built from a rawlog (poses from odometry) or a simplemap, as "

@@ -125,3 +125,27 @@ def test_map_build_bad_input(tmp_path):
     assert str(e.value) == cli_error("map", "build", typo, log, "-o", tmp_path / "out")
     with pytest.raises(rove.ConfigError):
         rove.map_build(ICP_SLAM_INI, log, section="NoSuchSection")
+
+
+def test_map_check_equals_the_command_line(tmp_path):
+    simplemap = MRPT / "localization_demo.simplemap.gz"
+    cli = run_cli_json("map", "check", simplemap)
+    r = rove.map_check(simplemap)
+    assert (r.keyframes, r.scans, r.checked, r.contradicted) == (
+        cli["keyframes"], cli["scans"], cli["checked"], cli["contradicted"]) == (72, 72, 71, 0)
+    assert r.resolution == cli["resolution"] and r.issues == []
+    assert r.through_walls.shape == (72,) and r.through_walls[0] == 0.0
+    assert r.poses.shape == (72, 3)
+    worst = cli["worst"][0]
+    assert r.through_walls[worst["scan"]] == worst["through_walls"] == r.through_walls.max()
+    assert (r.poses[worst["scan"], 0], r.poses[worst["scan"], 1]) == (worst["x"], worst["y"])
+    # A coarser grid is what it says.
+    assert rove.map_check(simplemap, resolution=0.2).resolution == pytest.approx(0.2)
+
+
+def test_map_check_refuses_what_the_command_refuses():
+    with pytest.raises(rove.ParseError) as e:
+        rove.map_check(ICP_SLAM_INI)
+    assert str(e.value).split("\n")[0] in cli_error("map", "check", ICP_SLAM_INI)
+    with pytest.raises(ValueError):
+        rove.map_check(MRPT / "localization_demo.simplemap.gz", resolution=0.0)

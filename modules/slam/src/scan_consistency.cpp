@@ -3,9 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+
+#include <fmt/format.h>
 
 #include "rove/core/check.h"
 #include "rove/maps/tiled_grid.h"
+#include "rove/obs/selection_error.h"
+#include "rove/poses/pose3.h"
 
 namespace rove {
 
@@ -66,6 +71,53 @@ ScanConsistency scan_consistency(const std::vector<PosedScan>& scans, float reso
     }
     out.through_walls.push_back(through);
     insert_scan(grid, *s.scan, s.T_map_robot, options);
+  }
+  return out;
+}
+
+std::vector<PosedScan> posed_scans(const SimpleMap& map) {
+  std::vector<PosedScan> out;
+  for (std::size_t k = 0; k < map.keyframes.size(); ++k) {
+    const SimpleMapKeyframe& kf = map.keyframes[k];
+    std::optional<SE2d> pose;
+    for (const auto& o : kf.frame->observations) {
+      const auto* scan = dynamic_cast<const RangeScan2D*>(o.get());
+      if (scan == nullptr) continue;
+      if (!pose) {
+        const Pose3 m = kf.pose.mean();
+        ROVE_CHECK_MSG(m.translation().allFinite() && std::isfinite(m.yaw()),
+                       "keyframe {} of the simple map has a pose that is not finite", k);
+        pose = SE2d(m.x(), m.y(), m.yaw());
+      }
+      out.push_back({*pose, scan});
+    }
+  }
+  return out;
+}
+
+SimplemapCheck check_simplemap(const SimpleMap& map, float resolution) {
+  SimplemapCheck out;
+  out.keyframes = map.keyframes.size();
+  const std::vector<PosedScan> scans = posed_scans(map);
+  if (scans.size() < 2) {
+    throw SelectionError("", fmt::format("{} keyframes hold {} 2D scan(s): nothing to check the scans "
+                                         "against",
+                                         map.keyframes.size(), scans.size()));
+  }
+  for (const PosedScan& s : scans) out.poses.push_back(s.T_map_robot);
+  out.consistency = scan_consistency(scans, resolution);
+  const ScanConsistency& c = out.consistency;
+  if (c.resolution == 0.0) {
+    out.issues.push_back({"not-checked", fmt::format("the scans span more than {} tiles of 32 cells even "
+                                                     "at {} times {:g} m: too far apart to replay",
+                                                     kMaxReplayTiles, kMaxCoarsening, resolution)});
+  } else if (c.flagged()) {
+    out.issues.push_back(
+        {"map-contradicts-scans",
+         fmt::format("{} of {} scans saw more than {:.0f} % of their rays through walls of the scans "
+                     "before them (> {:.0f} % of the scans): the map holds passes that disagree (a "
+                     "loop closed wrong, or one not closed)",
+                     c.contradicted, c.checked, 100.0 * kContradictedRays, 100.0 * kContradictedScans)});
   }
   return out;
 }

@@ -17,8 +17,10 @@
 /// no pass overlaps another: only a comparison with another map tells those.
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
+#include "rove/io/mrpt_simplemap.h"
 #include "rove/maps/grid_insertion.h"
 #include "rove/math/se2.h"
 #include "rove/obs/range_scan_2d.h"
@@ -85,5 +87,36 @@ struct ScanConsistency {
 /// non-null and passing check(), every pose finite.
 ScanConsistency scan_consistency(const std::vector<PosedScan>& scans, float resolution = 0.05f,
                                  const GridInsertionOptions& options = {});
+
+/// The 2D scans of a simple map's keyframes at their poses (the pose PDF's
+/// mean: x, y and yaw), in keyframe order, each frame's scans in its order;
+/// the scans stay owned by `map`. A keyframe whose mean is not finite is
+/// refused (InvalidArgument naming it).
+std::vector<PosedScan> posed_scans(const SimpleMap& map);
+
+/// Something a simplemap check must tell its user.
+struct ScanCheckIssue {
+  /// "map-contradicts-scans" (ScanConsistency::flagged) or "not-checked"
+  /// (the scans span too much to replay).
+  std::string code;
+  /// One line for a person, with the counts.
+  std::string message;
+};
+
+/// What `rove map check` reports of a simple map.
+struct SimplemapCheck {
+  std::size_t keyframes = 0;
+  /// Where each 2D scan was taken (posed_scans' order).
+  std::vector<SE2d> poses;
+  ScanConsistency consistency;
+  std::vector<ScanCheckIssue> issues;
+};
+
+/// The simple map's 2D scans (posed_scans) replayed against each other
+/// (scan_consistency) on cells of `resolution` meters, and the issues.
+/// Throws SelectionError (rove/obs/selection_error.h) when the map holds
+/// fewer than two 2D scans, InvalidArgument as posed_scans and
+/// scan_consistency.
+SimplemapCheck check_simplemap(const SimpleMap& map, float resolution = 0.05f);
 
 }  // namespace rove
