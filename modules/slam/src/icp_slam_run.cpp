@@ -185,12 +185,9 @@ IcpSlamRunResult run_icp_slam(IcpSlam& slam, const std::string& rawlog_path,
   if (result.consistency.flagged()) {
     result.issues.push_back(
         {"map-contradicts-scans",
-         fmt::format("{} of {} keyframes saw more than {:.0f} % of their rays through walls of the "
-                     "keyframes before them (> {:.0f} % of the keyframes): the path drifted where "
-                     "the robot came back, so the map holds passes that disagree (ICP-SLAM closes "
-                     "no loop; rove lidar-slam does)",
-                     result.consistency.contradicted, result.consistency.checked,
-                     100.0 * kContradictedRays, 100.0 * kContradictedScans)});
+         contradiction_message(result.consistency.contradicted, result.consistency.checked, "keyframes", "",
+                               "the path drifted where the robot came back, so the map holds passes that "
+                               "disagree (ICP-SLAM closes no loop; rove lidar-slam does)")});
   }
   return result;
 }

@@ -129,11 +129,9 @@ std::vector<LidarSlamIssue> run_issues(const LidarSlam& slam, const LidarSlamRun
   if (res.consistency.flagged()) {
     issues.push_back(
         {"map-contradicts-scans",
-         fmt::format("{} of {} nodes saw more than {:.0f} % of their rays through walls of the nodes "
-                     "before them at the final poses (> {:.0f} % of the nodes): the map holds passes "
-                     "that disagree (a loop closed wrong, or one not closed)",
-                     res.consistency.contradicted, res.consistency.checked, 100.0 * kContradictedRays,
-                     100.0 * kContradictedScans)});
+         contradiction_message(res.consistency.contradicted, res.consistency.checked, "nodes",
+                               " at the final poses",
+                               "the map holds passes that disagree (a loop closed wrong, or one not closed)")});
   }
   if (st.scans_without_points > 0) {
     issues.push_back({"scans-without-points",

@@ -14,6 +14,14 @@
 
 namespace rove {
 
+std::string contradiction_message(std::size_t contradicted, std::size_t checked, std::string_view what,
+                                  std::string_view where, std::string_view consequence) {
+  return fmt::format("{} of {} {} saw more than {:.0f} % of their rays through walls of the {} before "
+                     "them{} (> {:.0f} % of the {}): {}",
+                     contradicted, checked, what, 100.0 * kContradictedRays, what, where,
+                     100.0 * kContradictedScans, what, consequence);
+}
+
 ScanConsistency scan_consistency(const std::vector<PosedScan>& scans, float resolution,
                                  const GridInsertionOptions& options) {
   ROVE_CHECK_MSG(std::isfinite(resolution) && resolution > 0.0f, "resolution must be > 0, got {}",
@@ -114,10 +122,8 @@ SimplemapCheck check_simplemap(const SimpleMap& map, float resolution) {
   } else if (c.flagged()) {
     out.issues.push_back(
         {"map-contradicts-scans",
-         fmt::format("{} of {} scans saw more than {:.0f} % of their rays through walls of the scans "
-                     "before them (> {:.0f} % of the scans): the map holds passes that disagree (a "
-                     "loop closed wrong, or one not closed)",
-                     c.contradicted, c.checked, 100.0 * kContradictedRays, 100.0 * kContradictedScans)});
+         contradiction_message(c.contradicted, c.checked, "scans", "",
+                               "the map holds passes that disagree (a loop closed wrong, or one not closed)")});
   }
   return out;
 }

@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "rove/io/mrpt_simplemap.h"
@@ -46,6 +47,12 @@ inline bool contradicted_run(std::size_t contradicted, std::size_t checked) {
   return contradicted >= kMinContradicted &&
          static_cast<double>(contradicted) > kContradictedScans * static_cast<double>(checked);
 }
+
+/// The message of a flagged replay: "C of N <what> saw more than 20 % of
+/// their rays through walls of the <what> before them<where> (> 10 % of the
+/// <what>): <consequence>".
+std::string contradiction_message(std::size_t contradicted, std::size_t checked, std::string_view what,
+                                  std::string_view where, std::string_view consequence);
 
 /// One scan of the replay and where the robot was.
 struct PosedScan {
